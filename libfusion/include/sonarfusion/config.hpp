@@ -1,0 +1,127 @@
+// Every parameter of the pipeline, with the paper's default and a one-line why.
+// Angles are stored in radians; the defaults are written in degrees for reading.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sonarfusion {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+// Forward-looking sonar (DIDSON, paper Table 1).
+struct FlsGeometry {
+    double fov_horizontal = 29.0 * kDegToRad;  // theta_F
+    double elevation_min = -7.0 * kDegToRad;   // phi_min
+    double elevation_max = 7.0 * kDegToRad;    // phi_max
+    double tilt = 40.0 * kDegToRad;            // phi_t1, positive looks down
+    double range_min = 0.83;                   // m
+    double range_max = 10.0;                   // m
+    int beams = 96;                            // w
+    int rows = 512;                            // h (range bins)
+    int elevation_samples = 5;                 // N_v
+    // Optional non-uniform geometry (as carried in fls_image_t). When empty the
+    // uniform paper geometry of Eqs. 1-2 is used.
+    std::vector<double> beam_bearing;  // rad per column, size == beams
+    std::vector<double> row_range;     // m per row (row 0 far), size == rows
+};
+
+// Profiling sonar (Imagenex 881A, paper Table 2).
+struct PsGeometry {
+    double fan_min = -10.0 * kDegToRad;  // theta_min
+    double fan_max = 10.0 * kDegToRad;   // theta_max
+    double head_min = -20.0 * kDegToRad; // phi_p sector limits
+    double head_max = 20.0 * kDegToRad;
+    double tilt = 40.0 * kDegToRad;      // phi_t2
+    double range_min = 0.0;              // m, range of bin 0
+    double range_max = 10.0;             // m, range of the last bin
+    int bins = 500;                      // range bins per ping (2 cm)
+    int fan_samples = 21;                // N_h
+};
+
+// Where a sensor sits on the vehicle (body frame FRD). The paper mounts both at
+// the vehicle origin; the tilt is part of the sensor model (Eqs. 4, 11).
+struct Mounting {
+    double x = 0.0, y = 0.0, z = 0.0;  // m
+    double roll = 0.0, yaw = 0.0;      // rad, extra rotation besides the tilt
+};
+
+struct MapConfig {
+    int nx = 100, ny = 100, nz = 100;  // 10 x 10 x 10 m at 0.1 m (paper 2.1)
+    double resolution = 0.1;           // m
+    float clamp_min = -5.0f;           // Eq. 8
+    float clamp_max = 5.0f;
+};
+
+// Which of the paper's stages run and how evidence is counted. The four
+// variants of DESIGN.md §7 are presets of this struct (see variant.hpp).
+struct UpdateConfig {
+    bool fls_enabled = true;
+    bool ps_carving_enabled = true;
+    // Eq. 5: P_o; the paper leaves it open. 0.7 is a moderate hit.
+    double p_occupied = 0.7;
+    // Eq. 6: alpha_F, the FLS weight relative to the PS.
+    double alpha_fls = 0.3;
+    // Eq. 12: P_f < 0.5. 0.2 carves strongly enough to keep up with the FLS.
+    double p_free = 0.2;
+    // Eq. 13: alpha_P, how fast carving fades along the ray.
+    double alpha_ps = 0.5;
+    // FLS pixel threshold (paper 2.2: 150 of 255).
+    int fls_intensity_threshold = 150;
+    // Count each voxel at most once per FLS frame with the strongest intensity
+    // that fell in it (DESIGN.md §3 "evidence counting"; OctoMap does the same).
+    bool fls_once_per_frame = true;
+    // Report as objects only voxels that a PS ray crossed or ended in.
+    bool require_ps_observation = true;
+    // PS-only reconstruction: the end voxel of each PS ray gets an occupied
+    // update (delta L_o) instead of being left alone. Only the carve_only variant.
+    bool ps_endpoint_hits = false;
+};
+
+// Closest-group range selection of the PS (paper 2.3).
+struct PsSelectionConfig {
+    double group_threshold = 0.7;  // tau, on intensities normalised to 0..1
+    // Normalise by the ping's own maximum (true) or by 255 (false). Per-ping
+    // maximum keeps the rule independent of the sonar's gain setting.
+    bool normalise_by_ping_max = true;
+    // A ping whose strongest bin is below this (0..255) has no echo: no update.
+    int min_peak_intensity = 40;
+    // Bins closer than this are ignored (transducer ringing).
+    double min_range = 0.3;  // m
+};
+
+// PS rising-edge object detector that anchors the map (paper 2.1).
+struct DetectorConfig {
+    int baseline_window = 50;        // pings in the running seabed baseline
+    int min_baseline_pings = 20;     // pings needed before detection may fire
+    double rise_threshold = 0.3;     // m above the baseline counts as "risen"
+    int min_consecutive = 5;         // risen pings in a row that declare an object
+    double max_range_fraction = 0.98;  // ignore peaks at the very end of the range
+};
+
+// Map completion and object segmentation (paper 2.4).
+struct SegmentationConfig {
+    double occupied_probability = 0.7;  // threshold on Eq. 9
+    double baseline_window = 3.0;       // m, moving-average window of the seabed
+    double min_object_height = 0.15;    // m above the baseline
+    int min_object_voxels = 10;         // smaller connected groups are noise
+    int max_objects = 64;               // fixed-size result
+};
+
+struct MapperConfig {
+    FlsGeometry fls;
+    PsGeometry ps;
+    Mounting fls_mount;
+    Mounting ps_mount;
+    MapConfig map;
+    UpdateConfig update;
+    PsSelectionConfig ps_selection;
+    DetectorConfig detector;
+    SegmentationConfig segmentation;
+    int64_t max_nav_gap_us = 500000;  // refuse to interpolate over a NAV gap larger than this
+    int nav_buffer_capacity = 4096;   // NAV samples kept for interpolation
+};
+
+}  // namespace sonarfusion

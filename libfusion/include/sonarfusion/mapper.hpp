@@ -1,0 +1,91 @@
+// The pipeline facade the daemon, the tools and the benchmarks drive: NAV, FLS
+// and PS inputs in time order in, a voxel map and its objects out. All memory
+// is allocated in the constructor; processing never allocates.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include "sonarfusion/config.hpp"
+#include "sonarfusion/fls_model.hpp"
+#include "sonarfusion/fls_update.hpp"
+#include "sonarfusion/nav_buffer.hpp"
+#include "sonarfusion/object_detector.hpp"
+#include "sonarfusion/ps_carving.hpp"
+#include "sonarfusion/ps_model.hpp"
+#include "sonarfusion/segmentation.hpp"
+#include "sonarfusion/voxel_map.hpp"
+
+namespace sonarfusion {
+
+// What became of one input message. Used means it changed the pipeline state.
+enum class Outcome : int {
+    Used = 0,
+    NavNonFinite,       // NaN/inf in the pose
+    NavOutOfOrder,      // utime not after the previous NAV
+    NoPose,             // no NAV brackets the message's utime
+    NavGapTooLarge,     // the bracketing NAV samples are too far apart to interpolate
+    FlsSizeMismatch,    // image size disagrees with the configured geometry or buffer
+    FlsBeforeMap,       // no object detected yet: nothing to update
+    FlsDisabled,        // the variant does not use the FLS
+    PsEmpty,            // no bins
+    PsBadGeometry,      // non-finite angle, bad range window
+    PsNoEcho,           // no bin passed the selection rule
+    kCount
+};
+constexpr int kOutcomeCount = static_cast<int>(Outcome::kCount);
+[[nodiscard]] std::string_view outcomeName(Outcome o);
+
+struct MapperCounters {
+    int64_t nav_in = 0, fls_in = 0, ps_in = 0;
+    int64_t nav_used = 0, fls_used = 0, ps_used = 0;
+    std::array<int64_t, kOutcomeCount> by_outcome{};
+    int64_t fls_points_outside_map = 0;
+    int64_t ps_endpoints_outside_map = 0;
+    int64_t map_initialisations = 0;
+};
+
+class Mapper {
+public:
+    explicit Mapper(const MapperConfig& cfg);  // throws std::invalid_argument on a bad config
+
+    Outcome addNav(const TimedPose& nav);
+    Outcome addFls(const FlsFrame& frame);
+    Outcome addPs(const PsPing& ping);
+    // Paper 2.4 over the current map.
+    const SegmentationStats& segment();
+
+    // Anchors the map by hand (e.g. a known target, or a restored checkpoint).
+    void initialiseMapAt(const Eigen::Vector3d& centre);
+
+    [[nodiscard]] const VoxelMap& map() const { return map_; }
+    [[nodiscard]] VoxelMap& mutableMap() { return map_; }
+    [[nodiscard]] const Segmenter& segmenter() const { return segmenter_; }
+    [[nodiscard]] const ObjectDetector& detector() const { return detector_; }
+    [[nodiscard]] const MapperCounters& counters() const { return counters_; }
+    [[nodiscard]] const MapperConfig& config() const { return cfg_; }
+    [[nodiscard]] const FlsModel& flsModel() const { return fls_model_; }
+    [[nodiscard]] const PsModel& psModel() const { return ps_model_; }
+
+private:
+    Outcome count(Outcome o);
+    Outcome lookupPose(int64_t utime, Pose& out) const;
+
+    MapperConfig cfg_;
+    VoxelMap map_;
+    FlsModel fls_model_;
+    PsModel ps_model_;
+    FlsUpdater fls_updater_;
+    PsCarver ps_carver_;
+    ObjectDetector detector_;
+    Segmenter segmenter_;
+    NavBuffer nav_;
+    MapperCounters counters_;
+};
+
+// Checks the numbers that the equations cannot take (probabilities outside
+// (0, 1), non-positive weights); returns an empty string when the config is fine.
+[[nodiscard]] std::string validateConfig(const MapperConfig& cfg);
+
+}  // namespace sonarfusion

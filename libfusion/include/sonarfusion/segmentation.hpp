@@ -1,0 +1,67 @@
+// Paper 2.4: threshold the occupancy map, estimate the seabed per horizontal
+// cell with a moving average, and report connected groups of voxels standing
+// clearly above it as objects. All buffers are sized for the map once.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "sonarfusion/config.hpp"
+#include "sonarfusion/voxel_map.hpp"
+
+namespace sonarfusion {
+
+struct ObjectInfo {
+    int id = 0;  // 1-based label in objectLabel()
+    int voxel_count = 0;
+    double volume_m3 = 0.0;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // NED
+    Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();  // voxel bounds (outer faces)
+    Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
+    double height_m = 0.0;  // top of the object above the local seabed baseline
+};
+
+struct SegmentationStats {
+    int occupied_voxels = 0;
+    int candidate_voxels = 0;      // occupied, above the baseline, (PS-confirmed if required)
+    int unconfirmed_voxels = 0;    // would be candidates but the PS never observed them
+    int objects = 0;
+    int objects_dropped = 0;       // beyond max_objects
+};
+
+class Segmenter {
+public:
+    Segmenter(const SegmentationConfig& cfg, bool require_ps_observation, const VoxelMap& map);
+
+    // Recomputes everything from the map; no allocation.
+    const SegmentationStats& run(const VoxelMap& map);
+
+    [[nodiscard]] const std::vector<ObjectInfo>& objects() const { return objects_; }
+    // Per voxel: 0, or the id of the object it belongs to.
+    [[nodiscard]] int32_t objectLabel(std::size_t voxel) const { return label_[voxel]; }
+    [[nodiscard]] bool occupied(std::size_t voxel) const { return occupied_[voxel] != 0; }
+    // Seabed baseline depth (NED z, m) of column (ix, iy); NaN where unknown.
+    [[nodiscard]] double seabedDepth(int ix, int iy) const { return baseline_[static_cast<std::size_t>(iy) * nx_ + ix]; }
+    [[nodiscard]] const SegmentationStats& stats() const { return stats_; }
+
+private:
+    void columnSurfaces(const VoxelMap& map);
+    void smoothBaseline(const VoxelMap& map, bool exclude_raised);
+    void label(const VoxelMap& map);
+
+    SegmentationConfig cfg_;
+    bool require_ps_;
+    int nx_, ny_, nz_;
+    float logodds_threshold_;
+    std::vector<uint8_t> occupied_;      // per voxel
+    std::vector<int32_t> label_;         // per voxel
+    std::vector<uint32_t> queue_;        // flood-fill queue, one slot per voxel
+    std::vector<double> surface_;        // per column: depth of the seabed surface seen, NaN none
+    std::vector<double> baseline_;       // per column: smoothed seabed depth
+    std::vector<double> sat_sum_, sat_cnt_;  // summed-area tables, (nx+1)*(ny+1)
+    std::vector<ObjectInfo> objects_;    // capacity max_objects
+    SegmentationStats stats_;
+};
+
+}  // namespace sonarfusion

@@ -1,0 +1,87 @@
+// Bounded dense voxel grid of log-odds (paper 2.1-2.2, Eqs. 7-9), allocated
+// once at construction; re-anchoring clears it in place.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "sonarfusion/config.hpp"
+
+namespace sonarfusion {
+
+struct VoxelIndex {
+    int x = 0, y = 0, z = 0;
+    bool operator==(const VoxelIndex& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+
+// Eq. 9: occupancy probability from log-odds.
+[[nodiscard]] inline float occupancyFromLogOdds(float l) { return 1.0f / (1.0f + std::exp(-l)); }
+// Inverse of Eq. 9 (Eqs. 5 and 12 use it with P_o and P_f).
+[[nodiscard]] inline double logOddsFromProbability(double p) { return std::log(p / (1.0 - p)); }
+
+class VoxelMap {
+public:
+    static constexpr uint8_t kPsObserved = 1u << 0;  // a PS ray crossed or ended here
+    static constexpr uint8_t kFlsTouched = 1u << 1;  // an FLS candidate point fell here
+
+    explicit VoxelMap(const MapConfig& cfg);
+
+    // Clears every voxel and places the grid so that `centre` is its centre.
+    void initialiseAt(const Eigen::Vector3d& centre);
+    void clear();
+    [[nodiscard]] bool initialised() const { return initialised_; }
+
+    [[nodiscard]] int nx() const { return nx_; }
+    [[nodiscard]] int ny() const { return ny_; }
+    [[nodiscard]] int nz() const { return nz_; }
+    [[nodiscard]] std::size_t size() const { return log_odds_.size(); }
+    [[nodiscard]] double resolution() const { return resolution_; }
+    [[nodiscard]] const Eigen::Vector3d& origin() const { return origin_; }  // min corner
+    [[nodiscard]] Eigen::Vector3d centre() const;
+    [[nodiscard]] Eigen::Vector3d extent() const { return Eigen::Vector3d(nx_, ny_, nz_) * resolution_; }
+
+    [[nodiscard]] bool contains(const VoxelIndex& v) const {
+        return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < nx_ && v.y < ny_ && v.z < nz_;
+    }
+    // False (and `out` untouched) when p is outside the grid or not finite.
+    [[nodiscard]] bool worldToIndex(const Eigen::Vector3d& p, VoxelIndex& out) const;
+    [[nodiscard]] Eigen::Vector3d centreOf(const VoxelIndex& v) const;
+    [[nodiscard]] std::size_t linear(const VoxelIndex& v) const {
+        return (static_cast<std::size_t>(v.z) * ny_ + v.y) * nx_ + v.x;
+    }
+    [[nodiscard]] VoxelIndex fromLinear(std::size_t i) const;
+
+    [[nodiscard]] float logOdds(std::size_t i) const { return log_odds_[i]; }
+    [[nodiscard]] float occupancy(std::size_t i) const { return occupancyFromLogOdds(log_odds_[i]); }
+    [[nodiscard]] uint8_t flags(std::size_t i) const { return flags_[i]; }
+    [[nodiscard]] bool psObserved(std::size_t i) const { return (flags_[i] & kPsObserved) != 0; }
+
+    // Eqs. 6/13 followed by the clamp of Eqs. 7-8.
+    void add(std::size_t i, float delta) {
+        float l = log_odds_[i] + delta;
+        log_odds_[i] = l < clamp_min_ ? clamp_min_ : (l > clamp_max_ ? clamp_max_ : l);
+    }
+    void setFlag(std::size_t i, uint8_t flag) { flags_[i] |= flag; }
+    // Direct write, for loading a saved map; clamps like add().
+    void setLogOdds(std::size_t i, float l) { log_odds_[i] = 0.0f; add(i, l); }
+    void setFlags(std::size_t i, uint8_t f) { flags_[i] = f; }
+
+    [[nodiscard]] float clampMin() const { return clamp_min_; }
+    [[nodiscard]] float clampMax() const { return clamp_max_; }
+    [[nodiscard]] const std::vector<float>& logOddsData() const { return log_odds_; }
+    [[nodiscard]] const std::vector<uint8_t>& flagsData() const { return flags_; }
+
+private:
+    int nx_, ny_, nz_;
+    double resolution_;
+    float clamp_min_, clamp_max_;
+    Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+    bool initialised_ = false;
+    std::vector<float> log_odds_;
+    std::vector<uint8_t> flags_;
+};
+
+}  // namespace sonarfusion

@@ -1,0 +1,46 @@
+#include "sonarfusion/nav_buffer.hpp"
+
+#include <stdexcept>
+
+namespace sonarfusion {
+
+NavBuffer::NavBuffer(int capacity, int64_t max_gap_us) : max_gap_us_(max_gap_us) {
+    if (capacity < 2) throw std::invalid_argument("nav buffer capacity must be >= 2");
+    ring_.resize(capacity);
+}
+
+NavBuffer::AddResult NavBuffer::add(const TimedPose& p) {
+    if (!p.pose.isFinite()) return AddResult::NonFinite;
+    if (count_ > 0 && p.utime <= newest().utime) return AddResult::OutOfOrder;
+    const int cap = static_cast<int>(ring_.size());
+    if (count_ < cap) {
+        ring_[(head_ + count_) % cap] = p;
+        ++count_;
+    } else {
+        ring_[head_] = p;  // overwrite the oldest
+        head_ = (head_ + 1) % cap;
+    }
+    return AddResult::Ok;
+}
+
+PoseLookup NavBuffer::poseAt(int64_t utime, Pose& out) const {
+    if (count_ == 0 || utime < at(0).utime || utime > newest().utime) return PoseLookup::NoBracket;
+    // Binary search for the first sample at or after utime.
+    int lo = 0, hi = count_ - 1;
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (at(mid).utime < utime) lo = mid + 1;
+        else hi = mid;
+    }
+    const TimedPose& after = at(lo);
+    if (after.utime == utime) {
+        out = after.pose;
+        return PoseLookup::Ok;
+    }
+    const TimedPose& before = at(lo - 1);  // lo > 0 because utime > at(0).utime here
+    if (after.utime - before.utime > max_gap_us_) return PoseLookup::GapTooLarge;
+    out = interpolate(before, after, utime);
+    return PoseLookup::Ok;
+}
+
+}  // namespace sonarfusion

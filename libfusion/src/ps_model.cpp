@@ -1,0 +1,89 @@
+#include "sonarfusion/ps_model.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace sonarfusion {
+
+PsPingError validatePing(const PsPing& ping) {
+    if (ping.bins <= 0 || ping.intensity == nullptr) return PsPingError::Empty;
+    if (ping.bins < 2 || !std::isfinite(ping.head_angle) || !std::isfinite(ping.range_min) ||
+        !std::isfinite(ping.range_max) || ping.range_min < 0.0 || ping.range_max <= ping.range_min ||
+        std::fabs(ping.head_angle) > M_PI)
+        return PsPingError::BadGeometry;
+    return PsPingError::None;
+}
+
+namespace {
+double normaliser(const PsPing& ping, const PsSelectionConfig& cfg, int& peak) {
+    peak = 0;
+    for (int i = 0; i < ping.bins; ++i)
+        if (ping.intensity[i] > peak) peak = ping.intensity[i];
+    return cfg.normalise_by_ping_max ? static_cast<double>(peak) : 255.0;
+}
+
+int firstUsableBin(const PsPing& ping, const PsSelectionConfig& cfg) {
+    int b = 0;
+    while (b < ping.bins && rangeOfBin(ping, b) < cfg.min_range) ++b;
+    return b;
+}
+}  // namespace
+
+std::optional<int> selectClosestGroup(const PsPing& ping, const PsSelectionConfig& cfg) {
+    if (validatePing(ping) != PsPingError::None) return std::nullopt;
+    int peak = 0;
+    const double norm = normaliser(ping, cfg, peak);
+    if (peak < cfg.min_peak_intensity || norm <= 0.0) return std::nullopt;
+    // Bins are already sorted by range, so the first bin above tau starts the
+    // nearest group; the group ends at the first bin that falls back below.
+    int b = firstUsableBin(ping, cfg);
+    while (b < ping.bins && ping.intensity[b] / norm <= cfg.group_threshold) ++b;
+    if (b == ping.bins) return std::nullopt;
+    int best = b;
+    for (; b < ping.bins && ping.intensity[b] / norm > cfg.group_threshold; ++b)
+        if (ping.intensity[b] > ping.intensity[best]) best = b;
+    return best;
+}
+
+std::optional<int> maxIntensityBin(const PsPing& ping, const PsSelectionConfig& cfg) {
+    if (validatePing(ping) != PsPingError::None) return std::nullopt;
+    int best = -1, best_val = -1;
+    for (int b = firstUsableBin(ping, cfg); b < ping.bins; ++b) {
+        if (ping.intensity[b] > best_val) {
+            best_val = ping.intensity[b];
+            best = b;
+        }
+    }
+    if (best < 0 || best_val < cfg.min_peak_intensity) return std::nullopt;
+    return best;
+}
+
+PsModel::PsModel(const PsGeometry& g) : g_(g), nh_(g.fan_samples) {
+    if (nh_ < 1 || nh_ > 1024) throw std::invalid_argument("PS geometry: fan_samples must be in 1..1024");
+    if (!std::isfinite(g.fan_min) || !std::isfinite(g.fan_max) || g.fan_max < g.fan_min)
+        throw std::invalid_argument("PS geometry: need fan_min <= fan_max");
+    if (!std::isfinite(g.tilt)) throw std::invalid_argument("PS geometry: tilt must be finite");
+    if (!(g.range_max > g.range_min) || g.range_min < 0.0)
+        throw std::invalid_argument("PS geometry: need 0 <= range_min < range_max");
+    fan_.resize(nh_);
+    cos_fan_.resize(nh_);
+    sin_fan_.resize(nh_);
+    for (int k = 0; k < nh_; ++k) {
+        fan_[k] = nh_ == 1 ? 0.5 * (g.fan_min + g.fan_max) : g.fan_min + k * (g.fan_max - g.fan_min) / (nh_ - 1);
+        cos_fan_[k] = std::cos(fan_[k]);
+        sin_fan_[k] = std::sin(fan_[k]);
+    }
+}
+
+Eigen::Vector3d PsModel::direction(double head_angle, int k) const {
+    const double down = g_.tilt + head_angle;  // phi_t2 + phi_p
+    const double c = std::cos(down);
+    return Eigen::Vector3d(c * cos_fan_[k], c * sin_fan_[k], std::sin(down));
+}
+
+Eigen::Vector3d PsModel::centreDirection(double head_angle) const {
+    const double down = g_.tilt + head_angle;
+    return Eigen::Vector3d(std::cos(down), 0.0, std::sin(down));
+}
+
+}  // namespace sonarfusion

@@ -1,0 +1,176 @@
+#include "sonarfusion/segmentation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace sonarfusion {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}
+
+Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation, const VoxelMap& map)
+    : cfg_(cfg), require_ps_(require_ps_observation), nx_(map.nx()), ny_(map.ny()), nz_(map.nz()) {
+    if (!(cfg.occupied_probability > 0.0 && cfg.occupied_probability < 1.0))
+        throw std::invalid_argument("segmentation: occupied_probability must be in (0, 1)");
+    if (cfg.max_objects < 1 || cfg.min_object_voxels < 1 || !(cfg.baseline_window > 0.0))
+        throw std::invalid_argument("segmentation: max_objects, min_object_voxels, baseline_window must be positive");
+    logodds_threshold_ = static_cast<float>(logOddsFromProbability(cfg.occupied_probability));
+    occupied_.assign(map.size(), 0);
+    label_.assign(map.size(), 0);
+    queue_.assign(map.size(), 0);
+    const std::size_t cols = static_cast<std::size_t>(nx_) * ny_;
+    surface_.assign(cols, kNaN);
+    baseline_.assign(cols, kNaN);
+    sat_sum_.assign(static_cast<std::size_t>(nx_ + 1) * (ny_ + 1), 0.0);
+    sat_cnt_.assign(sat_sum_.size(), 0.0);
+    objects_.reserve(cfg.max_objects);
+}
+
+// Per column, the seabed surface is the top of the lowest run of occupied
+// voxels: the FLS votes below the seabed (which no PS ray can carve) stay part
+// of that run, the surface on top of it is what the sensors saw.
+void Segmenter::columnSurfaces(const VoxelMap& map) {
+    const double res = map.resolution();
+    const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
+    for (int iy = 0; iy < ny_; ++iy) {
+        for (int ix = 0; ix < nx_; ++ix) {
+            const std::size_t col = static_cast<std::size_t>(iy) * nx_ + ix;
+            int iz = nz_ - 1;  // NED: the largest z index is the deepest
+            while (iz >= 0 && !occupied_[iz * layer + col]) --iz;
+            if (iz < 0) {
+                surface_[col] = kNaN;
+                continue;
+            }
+            while (iz - 1 >= 0 && occupied_[(iz - 1) * layer + col]) --iz;
+            surface_[col] = map.origin().z() + iz * res;  // top face of the voxel
+        }
+    }
+}
+
+// Moving average of the column surfaces over a square window (summed-area
+// tables keep it O(columns)). With exclude_raised, columns standing above the
+// previous baseline by more than the object height are left out, so an object
+// does not lift the seabed under itself.
+void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
+    const int half = std::max(1, static_cast<int>(std::lround(0.5 * cfg_.baseline_window / map.resolution())));
+    const int w = nx_ + 1;
+    double total_sum = 0.0, total_cnt = 0.0;
+    for (int iy = 0; iy < ny_; ++iy) {
+        double row_sum = 0.0, row_cnt = 0.0;
+        for (int ix = 0; ix < nx_; ++ix) {
+            const std::size_t col = static_cast<std::size_t>(iy) * nx_ + ix;
+            const double s = surface_[col];
+            const bool use = !std::isnan(s) &&
+                             !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+            if (use) {
+                row_sum += s;
+                row_cnt += 1.0;
+            }
+            sat_sum_[(iy + 1) * w + ix + 1] = sat_sum_[iy * w + ix + 1] + row_sum;
+            sat_cnt_[(iy + 1) * w + ix + 1] = sat_cnt_[iy * w + ix + 1] + row_cnt;
+        }
+        total_sum += row_sum;
+        total_cnt += row_cnt;
+    }
+    const double global = total_cnt > 0.0 ? total_sum / total_cnt : kNaN;
+    for (int iy = 0; iy < ny_; ++iy) {
+        const int y0 = std::max(0, iy - half), y1 = std::min(ny_, iy + half + 1);
+        for (int ix = 0; ix < nx_; ++ix) {
+            const int x0 = std::max(0, ix - half), x1 = std::min(nx_, ix + half + 1);
+            const double sum = sat_sum_[y1 * w + x1] - sat_sum_[y0 * w + x1] - sat_sum_[y1 * w + x0] + sat_sum_[y0 * w + x0];
+            const double cnt = sat_cnt_[y1 * w + x1] - sat_cnt_[y0 * w + x1] - sat_cnt_[y1 * w + x0] + sat_cnt_[y0 * w + x0];
+            baseline_[static_cast<std::size_t>(iy) * nx_ + ix] = cnt > 0.5 ? sum / cnt : global;
+        }
+    }
+}
+
+void Segmenter::label(const VoxelMap& map) {
+    const double res = map.resolution();
+    const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
+    // Candidates: occupied, clearly above the baseline, PS-observed if required.
+    // Marked with label -1 before the flood fill gives them object ids.
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        label_[i] = 0;
+        if (!occupied_[i]) continue;
+        const std::size_t col = i % layer;
+        const double base = baseline_[col];
+        const int iz = static_cast<int>(i / layer);
+        const double centre_z = map.origin().z() + (iz + 0.5) * res;
+        if (std::isnan(base) || !(centre_z < base - cfg_.min_object_height)) continue;
+        if (require_ps_ && !map.psObserved(i)) {
+            ++stats_.unconfirmed_voxels;
+            continue;
+        }
+        label_[i] = -1;
+        ++stats_.candidate_voxels;
+    }
+    // 26-connected flood fill.
+    int next_id = 0;
+    for (std::size_t seed = 0; seed < map.size(); ++seed) {
+        if (label_[seed] != -1) continue;
+        const int id = ++next_id;
+        std::size_t head = 0, tail = 0;
+        queue_[tail++] = static_cast<uint32_t>(seed);
+        label_[seed] = id;
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        VoxelIndex lo{nx_, ny_, nz_}, hi{-1, -1, -1};
+        double top_height = 0.0;
+        while (head < tail) {
+            const std::size_t v = queue_[head++];
+            const VoxelIndex c = map.fromLinear(v);
+            sum += map.centreOf(c);
+            lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+            hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+            const double top_z = map.origin().z() + c.z * res;
+            top_height = std::max(top_height, baseline_[v % layer] - top_z);
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const VoxelIndex n{c.x + dx, c.y + dy, c.z + dz};
+                        if (!map.contains(n)) continue;
+                        const std::size_t nl = map.linear(n);
+                        if (label_[nl] != -1) continue;
+                        label_[nl] = id;
+                        queue_[tail++] = static_cast<uint32_t>(nl);
+                    }
+        }
+        const int count = static_cast<int>(tail);
+        if (count < cfg_.min_object_voxels || static_cast<int>(objects_.size()) >= cfg_.max_objects) {
+            if (count >= cfg_.min_object_voxels) ++stats_.objects_dropped;
+            for (std::size_t q = 0; q < tail; ++q) label_[queue_[q]] = 0;  // too small: not an object
+            --next_id;
+            continue;
+        }
+        ObjectInfo o;
+        o.id = id;
+        o.voxel_count = count;
+        o.volume_m3 = count * res * res * res;
+        o.centroid = sum / count;
+        o.bbox_min = map.origin() + Eigen::Vector3d(lo.x, lo.y, lo.z) * res;
+        o.bbox_max = map.origin() + Eigen::Vector3d(hi.x + 1, hi.y + 1, hi.z + 1) * res;
+        o.height_m = top_height;
+        objects_.push_back(o);
+    }
+    stats_.objects = static_cast<int>(objects_.size());
+}
+
+const SegmentationStats& Segmenter::run(const VoxelMap& map) {
+    stats_ = SegmentationStats{};
+    objects_.clear();  // keeps capacity: no allocation
+    const std::vector<float>& l = map.logOddsData();
+    for (std::size_t i = 0; i < l.size(); ++i) {
+        occupied_[i] = l[i] > logodds_threshold_ ? 1 : 0;
+        stats_.occupied_voxels += occupied_[i];
+    }
+    columnSurfaces(map);
+    std::fill(baseline_.begin(), baseline_.end(), kNaN);
+    smoothBaseline(map, false);
+    smoothBaseline(map, true);
+    label(map);
+    return stats_;
+}
+
+}  // namespace sonarfusion

@@ -1,0 +1,49 @@
+#include "sonarfusion/variant.hpp"
+
+namespace sonarfusion {
+
+std::string_view variantName(Variant v) {
+    switch (v) {
+        case Variant::FlsOnly: return "fls_only";
+        case Variant::CarveOnly: return "carve_only";
+        case Variant::Paper: return "paper";
+        case Variant::Fused: return "fused";
+    }
+    return "unknown";
+}
+
+std::optional<Variant> parseVariant(std::string_view name) {
+    for (Variant v : {Variant::FlsOnly, Variant::CarveOnly, Variant::Paper, Variant::Fused}) {
+        if (variantName(v) == name) return v;
+    }
+    return std::nullopt;
+}
+
+void applyVariant(Variant v, MapperConfig& cfg) {
+    UpdateConfig& u = cfg.update;
+    u = UpdateConfig{};  // fused defaults
+    switch (v) {
+        case Variant::Fused:
+            break;
+        case Variant::Paper:
+            // DESIGN.md §3: the paper-literal prototype used P_o 0.7, P_f 0.4,
+            // alpha_F 1, alpha_P 1, one update per pixel-point, no confirmation.
+            u.p_occupied = 0.7;
+            u.p_free = 0.4;
+            u.alpha_fls = 1.0;
+            u.alpha_ps = 1.0;
+            u.fls_once_per_frame = false;
+            u.require_ps_observation = false;
+            break;
+        case Variant::FlsOnly:
+            u.ps_carving_enabled = false;
+            u.require_ps_observation = false;
+            break;
+        case Variant::CarveOnly:
+            u.fls_enabled = false;
+            u.ps_endpoint_hits = true;
+            break;
+    }
+}
+
+}  // namespace sonarfusion
