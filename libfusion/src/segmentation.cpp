@@ -90,8 +90,10 @@ void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
 void Segmenter::label(const VoxelMap& map) {
     const double res = map.resolution();
     const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
-    // Candidates: occupied, clearly above the baseline, PS-observed if required.
-    // Marked with label -1 before the flood fill gives them object ids.
+    // Candidates: occupied, above the seabed surface, PS-observed if required.
+    // Label -1 marks those clearly above it (min_object_height), which may seed
+    // an object; -2 those between the surface and that height, which may only
+    // join one (hysteresis: an object keeps its lowest layers).
     for (std::size_t i = 0; i < map.size(); ++i) {
         label_[i] = 0;
         if (!occupied_[i]) continue;
@@ -99,12 +101,12 @@ void Segmenter::label(const VoxelMap& map) {
         const double base = baseline_[col];
         const int iz = static_cast<int>(i / layer);
         const double centre_z = map.origin().z() + (iz + 0.5) * res;
-        if (std::isnan(base) || !(centre_z < base - cfg_.min_object_height)) continue;
+        if (std::isnan(base) || !(centre_z < base)) continue;
         if (require_ps_ && !map.psObserved(i)) {
             ++stats_.unconfirmed_voxels;
             continue;
         }
-        label_[i] = -1;
+        label_[i] = centre_z < base - cfg_.min_object_height ? -1 : -2;
         ++stats_.candidate_voxels;
     }
     // 26-connected flood fill.
@@ -132,7 +134,7 @@ void Segmenter::label(const VoxelMap& map) {
                         const VoxelIndex n{c.x + dx, c.y + dy, c.z + dz};
                         if (!map.contains(n)) continue;
                         const std::size_t nl = map.linear(n);
-                        if (label_[nl] != -1) continue;
+                        if (label_[nl] >= 0) continue;
                         label_[nl] = id;
                         queue_[tail++] = static_cast<uint32_t>(nl);
                     }
@@ -154,6 +156,9 @@ void Segmenter::label(const VoxelMap& map) {
         o.height_m = top_height;
         objects_.push_back(o);
     }
+    // Low candidates that no seed reached belong to no object.
+    for (std::size_t i = 0; i < map.size(); ++i)
+        if (label_[i] < 0) label_[i] = 0;
     stats_.objects = static_cast<int>(objects_.size());
 }
 

@@ -24,7 +24,7 @@ struct ObjectInfo {
 
 struct SegmentationStats {
     int occupied_voxels = 0;
-    int candidate_voxels = 0;      // occupied, above the baseline, (PS-confirmed if required)
+    int candidate_voxels = 0;      // occupied, above the seabed surface, (PS-confirmed if required)
     int unconfirmed_voxels = 0;    // would be candidates but the PS never observed them
     int objects = 0;
     int objects_dropped = 0;       // beyond max_objects

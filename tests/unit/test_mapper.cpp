@@ -1,0 +1,98 @@
+#include <gtest/gtest.h>
+
+#include "sonarfusion/mapper.hpp"
+#include "sonarfusion/variant.hpp"
+#include "test_helpers.hpp"
+
+using namespace sonarfusion;
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+
+// One straight pass over the box world: NAV + PS every 5 mm step, FLS every 4th.
+void runPass(Mapper& mapper, const test::BoxWorld& world, int steps, double start_x) {
+    const FlsGeometry& g = mapper.config().fls;
+    for (int i = 0; i < steps; ++i) {
+        const int64_t t = 1000000 + i * 50000LL;
+        const TimedPose nav = test::trackPose(t, start_x + 0.005 * i);
+        mapper.addNav(nav);
+        // Sector scan -20..20 deg and back, 1 deg per ping.
+        const int phase = i % 80;
+        const double head = (phase < 40 ? -20 + phase : 60 - phase) * kDeg;
+        auto ping = test::simulatePing(world, mapper.psModel(), nav.pose, t, head);
+        mapper.addPs(ping.view);
+        if (i % 4 == 0) {
+            auto frame = test::simulateFrame(world, g, mapper.flsModel(), nav.pose, t);
+            mapper.addFls(frame.view);
+        }
+    }
+}
+}  // namespace
+
+TEST(Mapper, DetectsTheBoxAnchorsTheMapAndFindsIt) {
+    MapperConfig cfg;
+    Mapper mapper(cfg);
+    test::BoxWorld world;
+    runPass(mapper, world, 1600, -6.0);
+    const MapperCounters& c = mapper.counters();
+    ASSERT_TRUE(mapper.map().initialised());
+    EXPECT_EQ(c.map_initialisations, 1);
+    // The map is centred near the first part of the box the PS saw.
+    EXPECT_LT((mapper.map().centre() - Eigen::Vector3d(-1.0, 0.0, 19.0)).norm(), 1.0);
+    EXPECT_EQ(c.nav_used, 1600);
+    EXPECT_EQ(c.ps_in, 1600);
+    EXPECT_GT(c.fls_used, 300);
+    EXPECT_GT(c.by_outcome[static_cast<int>(Outcome::FlsBeforeMap)], 0);
+
+    const SegmentationStats& st = mapper.segment();
+    ASSERT_GE(st.objects, 1);
+    // The largest object is the box: it covers the box's centre line, stands
+    // about as tall as the box (1 m; FLS votes above the top that no PS ray
+    // carved add some), and does not spill far past its footprint.
+    const ObjectInfo* box = &mapper.segmenter().objects()[0];
+    for (const ObjectInfo& o : mapper.segmenter().objects())
+        if (o.voxel_count > box->voxel_count) box = &o;
+    EXPECT_LT(box->bbox_min.x(), -0.5);
+    EXPECT_GT(box->bbox_max.x(), 0.5);
+    EXPECT_LT(box->bbox_min.y(), 0.0);
+    EXPECT_GT(box->bbox_max.y(), 0.0);
+    EXPECT_GT(box->bbox_min.x(), -4.0);
+    EXPECT_LT(box->bbox_max.x(), 2.0);
+    EXPECT_GT(box->height_m, 0.8);
+    EXPECT_LT(box->height_m, 1.6);
+}
+
+TEST(Mapper, CarvingRemovesWhatTheFlsAloneClaims) {
+    test::BoxWorld world;
+    auto occupied = [&](Variant v) {
+        MapperConfig cfg;
+        applyVariant(v, cfg);
+        Mapper mapper(cfg);
+        runPass(mapper, world, 1600, -6.0);
+        int n = 0;
+        const float thr = static_cast<float>(logOddsFromProbability(0.7));
+        for (std::size_t i = 0; i < mapper.map().size(); ++i) n += mapper.map().logOdds(i) > thr;
+        return n;
+    };
+    const int fls_only = occupied(Variant::FlsOnly);
+    const int fused = occupied(Variant::Fused);
+    EXPECT_GT(fls_only, 0);
+    EXPECT_LT(fused, fls_only);
+}
+
+TEST(Variant, NamesRoundTripAndPresetsDiffer) {
+    for (Variant v : {Variant::FlsOnly, Variant::CarveOnly, Variant::Paper, Variant::Fused})
+        EXPECT_EQ(parseVariant(variantName(v)), v);
+    EXPECT_FALSE(parseVariant("octomap").has_value());
+    MapperConfig c;
+    applyVariant(Variant::Paper, c);
+    EXPECT_FALSE(c.update.fls_once_per_frame);
+    EXPECT_FALSE(c.update.require_ps_observation);
+    applyVariant(Variant::Fused, c);
+    EXPECT_TRUE(c.update.fls_once_per_frame);
+    EXPECT_TRUE(c.update.require_ps_observation);
+    applyVariant(Variant::FlsOnly, c);
+    EXPECT_FALSE(c.update.ps_carving_enabled);
+    applyVariant(Variant::CarveOnly, c);
+    EXPECT_FALSE(c.update.fls_enabled);
+}

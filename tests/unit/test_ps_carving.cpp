@@ -1,0 +1,137 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <set>
+#include <vector>
+
+#include "sonarfusion/ps_carving.hpp"
+#include "sonarfusion/voxel_walk.hpp"
+
+using namespace sonarfusion;
+
+namespace {
+// A single-ray PS looking straight along +x: tilt 0, head 0, fan of one sample.
+PsGeometry singleRay() {
+    PsGeometry g;
+    g.fan_samples = 1;
+    g.fan_min = g.fan_max = 0.0;
+    g.tilt = 0.0;
+    return g;
+}
+
+VoxelMap originMap() {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(5.0, 5.0, 5.0));  // origin (0,0,0), voxel i spans [0.1 i, 0.1 (i+1))
+    return m;
+}
+}  // namespace
+
+TEST(PsCarving, TouchesEveryVoxelOnTheRayButTheEndWithFallingWeights) {
+    VoxelMap map = originMap();
+    PsModel model{singleRay()};
+    UpdateConfig cfg;
+    PsCarver carver(model, cfg);
+    Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+    sensor.translation() = Eigen::Vector3d(1.05, 2.05, 3.05);  // centre of voxel (10, 20, 30)
+    const PsCarveStats st = carver.apply(0.0, 2.0, sensor, map);  // echo at x = 3.05: voxel 30
+    EXPECT_EQ(st.rays, 1);
+    EXPECT_EQ(st.voxels_carved, 20);  // voxels 10..29
+    EXPECT_EQ(st.endpoints_in_map, 1);
+
+    const float dlf = static_cast<float>(std::log(0.2 / 0.8));
+    float previous = -1e9f;
+    for (int ix = 10; ix < 30; ++ix) {
+        const std::size_t v = map.linear({ix, 20, 30});
+        const float l = map.logOdds(v);
+        EXPECT_LT(l, 0.0f) << "voxel " << ix << " not carved";
+        EXPECT_GT(l, previous) << "carving must fade toward the echo (Eq. 13)";
+        previous = l;
+        EXPECT_TRUE(map.psObserved(v));
+    }
+    // First voxel: the ray runs from 1.05 to 1.10, middle 1.075 -> t = 0.0125.
+    EXPECT_NEAR(map.logOdds(map.linear({10, 20, 30})), dlf * std::exp(-0.5 * 0.0125), 1e-5);
+    // Voxel 20 spans 2.0..2.1 -> t = (2.05 - 1.05) / 2 = 0.5.
+    EXPECT_NEAR(map.logOdds(map.linear({20, 20, 30})), dlf * std::exp(-0.5 * 0.5), 1e-5);
+    // The echo's voxel is observed but not carved; nothing beyond it changes.
+    EXPECT_FLOAT_EQ(map.logOdds(map.linear({30, 20, 30})), 0.0f);
+    EXPECT_TRUE(map.psObserved(map.linear({30, 20, 30})));
+    EXPECT_FLOAT_EQ(map.logOdds(map.linear({31, 20, 30})), 0.0f);
+    EXPECT_FLOAT_EQ(map.logOdds(map.linear({9, 20, 30})), 0.0f);
+    int touched = 0;
+    for (std::size_t i = 0; i < map.size(); ++i) touched += map.logOdds(i) != 0.0f;
+    EXPECT_EQ(touched, 20);
+}
+
+TEST(PsCarving, EndPointHitsOnlyInCarveOnlyMode) {
+    VoxelMap map = originMap();
+    PsModel model{singleRay()};
+    UpdateConfig cfg;
+    cfg.ps_endpoint_hits = true;
+    PsCarver carver(model, cfg);
+    Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+    sensor.translation() = Eigen::Vector3d(1.05, 2.05, 3.05);
+    carver.apply(0.0, 2.0, sensor, map);
+    EXPECT_NEAR(map.logOdds(map.linear({30, 20, 30})), std::log(0.7 / 0.3), 1e-6);
+}
+
+TEST(VoxelWalk, DiagonalRaysVisitFaceConnectedVoxelsOnceAndSkipTheEnd) {
+    VoxelMap map = originMap();
+    std::srand(7);
+    for (int trial = 0; trial < 200; ++trial) {
+        auto rnd = [] { return 0.5 + 9.0 * std::rand() / RAND_MAX; };
+        const Eigen::Vector3d a(rnd(), rnd(), rnd()), b(rnd(), rnd(), rnd());
+        std::vector<VoxelIndex> seen;
+        double last_t = -1.0;
+        const WalkResult r = walkSegment(map, a, b, [&](std::size_t v, double t) {
+            seen.push_back(map.fromLinear(v));
+            EXPECT_GT(t, last_t);
+            EXPECT_LE(t, 1.0);
+            last_t = t;
+        });
+        ASSERT_TRUE(r.end_in_map);
+        VoxelIndex va, vb;
+        ASSERT_TRUE(map.worldToIndex(a, va));
+        ASSERT_TRUE(map.worldToIndex(b, vb));
+        if (va == vb) {
+            EXPECT_TRUE(seen.empty());
+            continue;
+        }
+        ASSERT_FALSE(seen.empty());
+        EXPECT_EQ(seen.front(), va);
+        for (const VoxelIndex& v : seen) EXPECT_FALSE(v == vb) << "end voxel must be skipped";
+        for (std::size_t i = 1; i < seen.size(); ++i) {
+            const int manhattan = std::abs(seen[i].x - seen[i - 1].x) + std::abs(seen[i].y - seen[i - 1].y) +
+                                  std::abs(seen[i].z - seen[i - 1].z);
+            EXPECT_EQ(manhattan, 1) << "a voxel on the segment was skipped";
+        }
+        // The last visited voxel is a face neighbour of the end voxel.
+        const VoxelIndex& l = seen.back();
+        EXPECT_EQ(std::abs(l.x - vb.x) + std::abs(l.y - vb.y) + std::abs(l.z - vb.z), 1);
+        std::set<std::size_t> unique;
+        for (const VoxelIndex& v : seen) unique.insert(map.linear(v));
+        EXPECT_EQ(unique.size(), seen.size());
+    }
+}
+
+TEST(VoxelWalk, ClipsSegmentsThatStartOutsideTheGrid) {
+    VoxelMap map = originMap();
+    int visited = 0;
+    // From 3 m before the grid, along x at y = z = 0.55, to x = 0.45.
+    const WalkResult r = walkSegment(map, Eigen::Vector3d(-3.0, 0.55, 0.55), Eigen::Vector3d(0.45, 0.55, 0.55),
+                                     [&](std::size_t v, double) {
+                                         const VoxelIndex i = map.fromLinear(v);
+                                         EXPECT_TRUE(map.contains(i));
+                                         EXPECT_EQ(i.y, 5);
+                                         ++visited;
+                                     });
+    EXPECT_TRUE(r.end_in_map);
+    EXPECT_EQ(visited, 4);  // voxels 0..3; voxel 4 holds the end
+    // Entirely outside: nothing.
+    visited = 0;
+    walkSegment(map, Eigen::Vector3d(-3, -3, -3), Eigen::Vector3d(-1, 20, -2), [&](std::size_t, double) { ++visited; });
+    EXPECT_EQ(visited, 0);
+    // Non-finite: nothing, no crash.
+    walkSegment(map, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d(1, 1, 1), [&](std::size_t, double) { ++visited; });
+    EXPECT_EQ(visited, 0);
+}

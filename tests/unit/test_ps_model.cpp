@@ -1,0 +1,97 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sonarfusion/ps_model.hpp"
+#include "test_helpers.hpp"
+
+using namespace sonarfusion;
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}
+
+TEST(PsSelection, BinRangesSpanTheWindow) {
+    auto p = test::blankPing(501, 10.0, 0, 0.0);
+    EXPECT_DOUBLE_EQ(rangeOfBin(p.view, 0), 0.0);
+    EXPECT_DOUBLE_EQ(rangeOfBin(p.view, 500), 10.0);
+    EXPECT_DOUBLE_EQ(rangeOfBin(p.view, 250), 5.0);
+}
+
+TEST(PsSelection, NearWeakGroupBeatsFarStrongGroup) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    // Near group: bins 100..104, weak but above 0.7 of the peak (0.7 * 255 = 178.5).
+    const uint8_t near[] = {185, 190, 200, 195, 186};
+    for (int i = 0; i < 5; ++i) p.bins[100 + i] = near[i];
+    // Far group: the strongest echo of the ping.
+    for (int i = 0; i < 5; ++i) p.bins[300 + i] = 255;
+    PsSelectionConfig cfg;
+    const auto sel = selectClosestGroup(p.view, cfg);
+    ASSERT_TRUE(sel.has_value());
+    EXPECT_EQ(*sel, 102);  // the nearest group's own maximum
+    // The detector's rule takes the plain maximum instead.
+    EXPECT_EQ(*maxIntensityBin(p.view, cfg), 300);
+}
+
+TEST(PsSelection, BelowTauIsNotAGroup) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    p.bins[100] = 170;  // 0.667 of the peak: below tau
+    p.bins[300] = 255;
+    EXPECT_EQ(*selectClosestGroup(p.view, PsSelectionConfig{}), 300);
+}
+
+TEST(PsSelection, GroupsAreSplitAtTheFirstGap) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    p.bins[100] = 200;
+    p.bins[101] = 10;   // gap
+    p.bins[102] = 255;  // next group, stronger
+    EXPECT_EQ(*selectClosestGroup(p.view, PsSelectionConfig{}), 100);
+}
+
+TEST(PsSelection, NoEchoMeansNoUpdate) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    for (auto& b : p.bins) b = 12;  // water noise only, below min_peak_intensity
+    EXPECT_FALSE(selectClosestGroup(p.view, PsSelectionConfig{}).has_value());
+    EXPECT_FALSE(maxIntensityBin(p.view, PsSelectionConfig{}).has_value());
+    PsSelectionConfig absolute;
+    absolute.normalise_by_ping_max = false;  // tau on I/255
+    p.bins[200] = 160;                       // 0.63: below tau on the absolute scale
+    EXPECT_FALSE(selectClosestGroup(p.view, absolute).has_value());
+    EXPECT_TRUE(selectClosestGroup(p.view, PsSelectionConfig{}).has_value());
+}
+
+TEST(PsSelection, IgnoresTransducerRinging) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    p.bins[2] = 255;  // 4 cm: inside min_range
+    p.bins[250] = 200;
+    EXPECT_EQ(*selectClosestGroup(p.view, PsSelectionConfig{}), 250);
+}
+
+TEST(PsModel, FanSamplesAndDirectionsFollowEq10And11) {
+    PsModel m{PsGeometry{}};
+    ASSERT_EQ(m.fanSamples(), 21);
+    EXPECT_NEAR(m.fanAngle(0), -10 * kDeg, 1e-12);
+    EXPECT_NEAR(m.fanAngle(10), 0.0, 1e-12);
+    EXPECT_NEAR(m.fanAngle(20), 10 * kDeg, 1e-12);
+    // Head at +20 deg: 60 deg down in total.
+    const Eigen::Vector3d d = m.direction(20 * kDeg, 20);
+    EXPECT_NEAR(d.x(), std::cos(60 * kDeg) * std::cos(10 * kDeg), 1e-12);
+    EXPECT_NEAR(d.y(), std::cos(60 * kDeg) * std::sin(10 * kDeg), 1e-12);
+    EXPECT_NEAR(d.z(), std::sin(60 * kDeg), 1e-12);
+    EXPECT_NEAR(d.norm(), 1.0, 1e-12);
+    EXPECT_TRUE(m.centreDirection(-20 * kDeg).isApprox(m.direction(-20 * kDeg, 10)));
+}
+
+TEST(PsModel, ValidatesPings) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    EXPECT_EQ(validatePing(p.view), PsPingError::None);
+    PsPing empty = p.view;
+    empty.bins = 0;
+    EXPECT_EQ(validatePing(empty), PsPingError::Empty);
+    PsPing bad = p.view;
+    bad.head_angle = std::nan("");
+    EXPECT_EQ(validatePing(bad), PsPingError::BadGeometry);
+    bad = p.view;
+    bad.range_max = -1.0;
+    EXPECT_EQ(validatePing(bad), PsPingError::BadGeometry);
+}

@@ -1,0 +1,83 @@
+#include <gtest/gtest.h>
+
+#include "sonarfusion/voxel_map.hpp"
+
+using namespace sonarfusion;
+
+TEST(VoxelMap, DefaultIsPaperGrid) {
+    VoxelMap m{MapConfig{}};
+    EXPECT_EQ(m.nx(), 100);
+    EXPECT_EQ(m.ny(), 100);
+    EXPECT_EQ(m.nz(), 100);
+    EXPECT_EQ(m.size(), 1000000u);
+    EXPECT_DOUBLE_EQ(m.resolution(), 0.1);
+    EXPECT_FALSE(m.initialised());
+}
+
+TEST(VoxelMap, InitialiseCentresTheGridOnThePoint) {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(1.0, -2.0, 20.0));
+    EXPECT_TRUE(m.initialised());
+    EXPECT_TRUE(m.origin().isApprox(Eigen::Vector3d(-4.0, -7.0, 15.0)));
+    EXPECT_TRUE(m.centre().isApprox(Eigen::Vector3d(1.0, -2.0, 20.0)));
+}
+
+TEST(VoxelMap, WorldToIndexFloorsAndRejectsOutside) {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(5.0, 5.0, 5.0));  // origin at 0,0,0
+    VoxelIndex v;
+    ASSERT_TRUE(m.worldToIndex(Eigen::Vector3d(0.05, 0.15, 9.99), v));
+    EXPECT_EQ(v, (VoxelIndex{0, 1, 99}));
+    // Just below zero must NOT fold into voxel 0 (int truncation would).
+    EXPECT_FALSE(m.worldToIndex(Eigen::Vector3d(-0.01, 0.5, 0.5), v));
+    EXPECT_FALSE(m.worldToIndex(Eigen::Vector3d(10.0, 0.5, 0.5), v));
+    EXPECT_FALSE(m.worldToIndex(Eigen::Vector3d(std::nan(""), 0.5, 0.5), v));
+    EXPECT_FALSE(m.worldToIndex(Eigen::Vector3d(1e300, 0.5, 0.5), v));
+}
+
+TEST(VoxelMap, LinearIndexRoundTrips) {
+    VoxelMap m{MapConfig{}};
+    const VoxelIndex v{7, 42, 93};
+    EXPECT_EQ(m.linear(v), (93u * 100 + 42) * 100 + 7);
+    EXPECT_EQ(m.fromLinear(m.linear(v)), v);
+    m.initialiseAt(Eigen::Vector3d::Zero());
+    VoxelIndex back;
+    ASSERT_TRUE(m.worldToIndex(m.centreOf(v), back));
+    EXPECT_EQ(back, v);
+}
+
+TEST(VoxelMap, ClampsAtPlusMinusFive) {
+    VoxelMap m{MapConfig{}};
+    for (int i = 0; i < 100; ++i) m.add(3, 0.4f);
+    EXPECT_FLOAT_EQ(m.logOdds(3), 5.0f);
+    for (int i = 0; i < 100; ++i) m.add(3, -0.7f);
+    EXPECT_FLOAT_EQ(m.logOdds(3), -5.0f);
+    m.add(3, 0.5f);  // climbs back from the clamp at once
+    EXPECT_FLOAT_EQ(m.logOdds(3), -4.5f);
+    EXPECT_NEAR(m.occupancy(3), 1.0 / (1.0 + std::exp(4.5)), 1e-6);
+}
+
+TEST(VoxelMap, ReanchorClearsWithoutReallocating) {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d::Zero());
+    const float* before = m.logOddsData().data();
+    m.add(10, 2.0f);
+    m.setFlag(10, VoxelMap::kPsObserved);
+    m.initialiseAt(Eigen::Vector3d(100.0, 0.0, 0.0));
+    EXPECT_EQ(m.logOddsData().data(), before);
+    EXPECT_FLOAT_EQ(m.logOdds(10), 0.0f);
+    EXPECT_FALSE(m.psObserved(10));
+    EXPECT_TRUE(m.centre().isApprox(Eigen::Vector3d(100.0, 0.0, 0.0)));
+}
+
+TEST(VoxelMap, RejectsImpossibleConfig) {
+    MapConfig c;
+    c.nx = 0;
+    EXPECT_THROW(VoxelMap{c}, std::invalid_argument);
+    c = MapConfig{};
+    c.resolution = -0.1;
+    EXPECT_THROW(VoxelMap{c}, std::invalid_argument);
+    c = MapConfig{};
+    c.clamp_min = 1.0f;
+    EXPECT_THROW(VoxelMap{c}, std::invalid_argument);
+}
