@@ -1,0 +1,157 @@
+// sf-mapper: the mapper daemon. Live on LCM, or offline over an LCM log file
+// through the same code path (MapperNode), as fast as possible.
+#include <CLI/CLI.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+
+#include "map_file.hpp"
+#include "mapper_config_yaml.hpp"
+#include "mapper_node.hpp"
+#include "sonarfusion/variant.hpp"
+
+using namespace sonarfusion;
+
+namespace {
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop = true; }
+
+int64_t wallUs() {
+    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+void writeOutputs(MapperNode& node, const std::string& map_out) {
+    node.segmentAndPublish();
+    saveMap(map_out, node.mapper().map(), node.config().variant);
+    savePly(map_out + ".ply", node.mapper().map(), node.config().mapper.segmentation.occupied_probability);
+    spdlog::info("map written to {} (+ .ply)", map_out);
+}
+
+void printSummary(const MapperNode& node) {
+    const mapper_status_t s = node.status();
+    std::printf("state %s  variant %s  nav %lld  fls %lld/%lld used  ps %lld/%lld used\n", s.state.c_str(),
+                s.variant.c_str(), static_cast<long long>(s.nav_in), static_cast<long long>(s.fls_used),
+                static_cast<long long>(s.fls_in), static_cast<long long>(s.ps_used), static_cast<long long>(s.ps_in));
+    std::printf("map centre %.2f %.2f %.2f  seq gaps nav/fls/ps %lld/%lld/%lld  proc p99 %.0f us max %.0f us\n",
+                s.map_centre[0], s.map_centre[1], s.map_centre[2], static_cast<long long>(s.nav_seq_gaps),
+                static_cast<long long>(s.fls_seq_gaps), static_cast<long long>(s.ps_seq_gaps), s.proc_p99_us,
+                s.proc_max_us);
+    for (int i = 0; i < s.num_reasons; ++i)
+        if (s.reason_count[i] > 0) std::printf("  %-24s %lld\n", s.reason_name[i].c_str(), static_cast<long long>(s.reason_count[i]));
+    for (const ObjectInfo& o : node.mapper().segmenter().objects())
+        std::printf("object %d: %d voxels, %.3f m3, centroid %.2f %.2f %.2f, height %.2f m\n", o.id, o.voxel_count,
+                    o.volume_m3, o.centroid.x(), o.centroid.y(), o.centroid.z(), o.height_m);
+}
+
+int runOffline(MapperNode& node, const std::string& log_path) {
+    lcm::LogFile log(log_path, "r");
+    if (!log.good()) {
+        spdlog::error("cannot read LCM log {}", log_path);
+        return 2;
+    }
+    long events = 0;
+    while (const lcm::LogEvent* ev = log.readNextEvent()) {
+        node.handle(ev->channel, ev->data, static_cast<std::size_t>(ev->datalen));
+        ++events;
+        if (g_stop) break;
+    }
+    node.flush(true);
+    spdlog::info("read {} events from {}", events, log_path);
+    return 0;
+}
+
+class LiveHandler {
+public:
+    explicit LiveHandler(MapperNode& n) : node_(n) {}
+    void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+        node_.handle(channel, rbuf->data, rbuf->data_size);
+    }
+
+private:
+    MapperNode& node_;
+};
+
+int runLive(MapperNode& node, lcm::LCM& lcm) {
+    LiveHandler h(node);
+    const DaemonConfig& c = node.config();
+    for (const std::string& ch : {c.nav_channel, c.fls_channel, c.ps_channel}) {
+        lcm::Subscription* sub = lcm.subscribe(ch, &LiveHandler::onMessage, &h);
+        sub->setQueueCapacity(c.queue_capacity);  // the default 30 drops the newest in a burst
+    }
+    spdlog::info("listening on {} / {} / {}", c.nav_channel, c.fls_channel, c.ps_channel);
+    int64_t last_status = wallUs();
+    while (!g_stop) {
+        if (lcm.handleTimeout(100) < 0) {
+            spdlog::error("LCM handle failed");
+            return 2;
+        }
+        node.tick(wallUs());
+        if (wallUs() - last_status > static_cast<int64_t>(c.status_period_s * 1e6)) {
+            node.publishStatus();
+            last_status = wallUs();
+        }
+    }
+    node.flush(true);  // finish what is in hand
+    return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"sf-mapper: FLS + profiling-sonar fusion mapper daemon"};
+    std::string config_path, log_path, map_out, variant, lcm_url;
+    bool quiet = false;
+    app.add_option("--config", config_path, "mapper YAML config (docs/mapper-config.md)")->required()->check(CLI::ExistingFile);
+    app.add_option("--log", log_path, "offline: read this LCM log as fast as possible instead of listening")->check(CLI::ExistingFile);
+    app.add_option("--map-out", map_out, "final map file (binary; a .ply is written beside it)")->required();
+    app.add_option("--variant", variant, "fls_only, carve_only, paper or fused (overrides the config's preset)");
+    app.add_option("--lcm-url", lcm_url, "LCM provider URL (live mode)");
+    app.add_flag("--quiet", quiet, "no summary on stdout");
+    CLI11_PARSE(app, argc, argv);
+
+    DaemonConfig cfg;
+    try {
+        cfg = loadDaemonConfig(config_path);
+        if (!variant.empty()) {
+            const auto v = parseVariant(variant);
+            if (!v) throw std::runtime_error("--variant must be fls_only, carve_only, paper or fused");
+            cfg.variant = variant;
+            applyVariant(*v, cfg.mapper);
+        }
+        if (!lcm_url.empty()) cfg.lcm_url = lcm_url;
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 2;
+    }
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+
+    try {
+        std::unique_ptr<lcm::LCM> lcm;
+        MapperNode::Publisher pub;
+        if (log_path.empty()) {
+            lcm = std::make_unique<lcm::LCM>(cfg.lcm_url);
+            if (!lcm->good()) {
+                spdlog::error("cannot open LCM at {}", cfg.lcm_url);
+                return 2;
+            }
+            pub.status = [&](const mapper_status_t& m) { lcm->publish(cfg.status_channel, &m); };
+            pub.objects = [&](const objects_t& m) { lcm->publish(cfg.objects_channel, &m); };
+            pub.map = [&](const map_snapshot_t& m) { lcm->publish(cfg.map_channel, &m); };
+        }
+        MapperNode node(cfg, pub);
+        const int rc = log_path.empty() ? runLive(node, *lcm) : runOffline(node, log_path);
+        if (rc != 0) return rc;
+        writeOutputs(node, map_out);
+        if (lcm) node.publishStatus();
+        if (!quiet) printSummary(node);
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 1;
+    }
+    return 0;
+}

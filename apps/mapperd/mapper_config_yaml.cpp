@@ -1,0 +1,120 @@
+#include "mapper_config_yaml.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <functional>
+#include <map>
+#include <stdexcept>
+
+#include "sonarfusion/mapper.hpp"
+#include "sonarfusion/variant.hpp"
+
+namespace sonarfusion {
+
+namespace {
+using Setter = std::function<void(const YAML::Node&)>;
+
+template <class T>
+Setter set(T& field) {
+    return [&field](const YAML::Node& n) { field = n.as<T>(); };
+}
+// Angles are written in degrees in the file and stored in radians.
+Setter setDeg(double& field) {
+    return [&field](const YAML::Node& n) { field = n.as<double>() * kDegToRad; };
+}
+
+void apply(const YAML::Node& node, const std::string& section, const std::map<std::string, Setter>& keys,
+           const std::string& path) {
+    if (!node) return;
+    if (!node.IsMap()) throw std::runtime_error(path + ": '" + section + "' must be a mapping");
+    for (const auto& kv : node) {
+        const std::string key = kv.first.as<std::string>();
+        auto it = keys.find(key);
+        if (it == keys.end()) throw std::runtime_error(path + ": unknown key '" + section + "." + key + "'");
+        try {
+            it->second(kv.second);
+        } catch (const YAML::Exception& e) {
+            throw std::runtime_error(path + ": bad value for '" + section + "." + key + "': " + e.what());
+        }
+    }
+}
+}  // namespace
+
+DaemonConfig loadDaemonConfig(const std::string& path) {
+    YAML::Node root;
+    try {
+        root = YAML::LoadFile(path);
+    } catch (const YAML::Exception& e) {
+        throw std::runtime_error(path + ": " + e.what());
+    }
+    DaemonConfig d;
+    MapperConfig& m = d.mapper;
+    static const char* kSections[] = {"variant", "channels", "lcm_url", "daemon", "fls", "ps", "map", "update",
+                                      "ps_selection", "detector", "segmentation", "nav"};
+    for (const auto& kv : root) {
+        const std::string key = kv.first.as<std::string>();
+        bool known = false;
+        for (const char* s : kSections) known |= key == s;
+        if (!known) throw std::runtime_error(path + ": unknown key '" + key + "'");
+    }
+    if (root["variant"]) d.variant = root["variant"].as<std::string>();
+    if (!parseVariant(d.variant)) throw std::runtime_error(path + ": variant must be fls_only, carve_only, paper or fused");
+    applyVariant(*parseVariant(d.variant), m);  // presets first; explicit update keys below override
+    if (root["lcm_url"]) d.lcm_url = root["lcm_url"].as<std::string>();
+    apply(root["channels"], "channels",
+          {{"nav", set(d.nav_channel)}, {"fls", set(d.fls_channel)}, {"ps", set(d.ps_channel)},
+           {"status", set(d.status_channel)}, {"objects", set(d.objects_channel)}, {"map", set(d.map_channel)}},
+          path);
+    apply(root["daemon"], "daemon",
+          {{"status_period_s", set(d.status_period_s)}, {"segment_period_s", set(d.segment_period_s)},
+           {"map_period_s", set(d.map_period_s)}, {"budget_us", set(d.budget_us)},
+           {"nav_wait_timeout_us", set(d.nav_wait_timeout_us)}, {"queue_capacity", set(d.queue_capacity)}},
+          path);
+    apply(root["fls"], "fls",
+          {{"fov_horizontal_deg", setDeg(m.fls.fov_horizontal)}, {"elevation_min_deg", setDeg(m.fls.elevation_min)},
+           {"elevation_max_deg", setDeg(m.fls.elevation_max)}, {"tilt_deg", setDeg(m.fls.tilt)},
+           {"range_min", set(m.fls.range_min)}, {"range_max", set(m.fls.range_max)}, {"beams", set(m.fls.beams)},
+           {"rows", set(m.fls.rows)}, {"elevation_samples", set(m.fls.elevation_samples)}},
+          path);
+    apply(root["ps"], "ps",
+          {{"fan_min_deg", setDeg(m.ps.fan_min)}, {"fan_max_deg", setDeg(m.ps.fan_max)},
+           {"head_min_deg", setDeg(m.ps.head_min)}, {"head_max_deg", setDeg(m.ps.head_max)},
+           {"tilt_deg", setDeg(m.ps.tilt)}, {"range_min", set(m.ps.range_min)}, {"range_max", set(m.ps.range_max)},
+           {"bins", set(m.ps.bins)}, {"fan_samples", set(m.ps.fan_samples)}},
+          path);
+    apply(root["map"], "map",
+          {{"nx", set(m.map.nx)}, {"ny", set(m.map.ny)}, {"nz", set(m.map.nz)}, {"resolution", set(m.map.resolution)},
+           {"clamp_min", set(m.map.clamp_min)}, {"clamp_max", set(m.map.clamp_max)}},
+          path);
+    apply(root["update"], "update",
+          {{"p_occupied", set(m.update.p_occupied)}, {"alpha_fls", set(m.update.alpha_fls)},
+           {"p_free", set(m.update.p_free)}, {"alpha_ps", set(m.update.alpha_ps)},
+           {"fls_intensity_threshold", set(m.update.fls_intensity_threshold)},
+           {"fls_once_per_frame", set(m.update.fls_once_per_frame)},
+           {"require_ps_observation", set(m.update.require_ps_observation)}},
+          path);
+    apply(root["ps_selection"], "ps_selection",
+          {{"group_threshold", set(m.ps_selection.group_threshold)},
+           {"normalise_by_ping_max", set(m.ps_selection.normalise_by_ping_max)},
+           {"min_peak_intensity", set(m.ps_selection.min_peak_intensity)}, {"min_range", set(m.ps_selection.min_range)}},
+          path);
+    apply(root["detector"], "detector",
+          {{"baseline_window", set(m.detector.baseline_window)},
+           {"min_baseline_pings", set(m.detector.min_baseline_pings)},
+           {"rise_threshold", set(m.detector.rise_threshold)}, {"min_consecutive", set(m.detector.min_consecutive)}},
+          path);
+    apply(root["segmentation"], "segmentation",
+          {{"occupied_probability", set(m.segmentation.occupied_probability)},
+           {"baseline_window", set(m.segmentation.baseline_window)},
+           {"min_object_height", set(m.segmentation.min_object_height)},
+           {"min_object_voxels", set(m.segmentation.min_object_voxels)},
+           {"max_objects", set(m.segmentation.max_objects)}},
+          path);
+    apply(root["nav"], "nav",
+          {{"max_gap_us", set(m.max_nav_gap_us)}, {"buffer_capacity", set(m.nav_buffer_capacity)}}, path);
+    const std::string err = validateConfig(m);
+    if (!err.empty()) throw std::runtime_error(path + ": " + err);
+    return d;
+}
+
+}  // namespace sonarfusion

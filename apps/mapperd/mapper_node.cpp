@@ -1,0 +1,312 @@
+#include "mapper_node.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <spdlog/spdlog.h>
+
+#include "message_guard.hpp"
+#include "sonarfusion/variant.hpp"
+
+namespace sonarfusion {
+
+namespace {
+enum Channel { kNav = 0, kFls = 1, kPs = 2 };
+constexpr int kFlsSlots = 16, kPsSlots = 64, kTimingRing = 8192;
+const char* kTransportNames[] = {"malformed", "fls_geometry_mismatch", "stale", "pending_overflow"};
+
+int64_t wallUs() {
+    return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+}  // namespace
+
+MapperNode::MapperNode(const DaemonConfig& cfg, Publisher out)
+    : cfg_(cfg), out_(std::move(out)), mapper_(cfg.mapper), variant_(cfg.variant) {
+    // Pre-size every decoded message so decode() reuses capacity instead of allocating.
+    const MapperConfig& m = cfg.mapper;
+    fls_pending_.resize(kFlsSlots);
+    for (auto& p : fls_pending_) {
+        p.msg.beam_bearing.reserve(m.fls.beams);
+        p.msg.row_range.reserve(m.fls.rows);
+        p.msg.data.reserve(static_cast<std::size_t>(m.fls.rows) * m.fls.beams);
+        p.msg.sensor_name.reserve(64);
+    }
+    ps_pending_.resize(kPsSlots);
+    for (auto& p : ps_pending_) {
+        p.msg.intensity.reserve(std::max(m.ps.bins, 4096));
+        p.msg.sensor_name.reserve(64);
+    }
+    proc_us_.assign(kTimingRing, 0.0);
+    scratch_.assign(kTimingRing, 0.0);
+}
+
+void MapperNode::trackSeq(int channel, int64_t seq) {
+    if (last_seq_[channel] >= 0 && seq > last_seq_[channel] + 1) gaps_[channel] += seq - last_seq_[channel] - 1;
+    last_seq_[channel] = seq;
+}
+
+void MapperNode::handle(const std::string& channel, const void* data, std::size_t size) {
+    if (channel == cfg_.nav_channel) onNav(data, size);
+    else if (channel == cfg_.fls_channel) onFls(data, size);
+    else if (channel == cfg_.ps_channel) onPs(data, size);
+}
+
+void MapperNode::onNav(const void* data, std::size_t size) {
+    if (guard::checkNav(data, size) != guard::Verdict::Ok ||
+        nav_msg_.decode(data, 0, static_cast<int>(size)) < 0) {
+        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+        return;
+    }
+    trackSeq(kNav, nav_msg_.seq);
+    TimedPose p;
+    p.utime = nav_msg_.utime;
+    p.pose.position = Eigen::Vector3d(nav_msg_.position_ned[0], nav_msg_.position_ned[1], nav_msg_.position_ned[2]);
+    p.pose.roll = nav_msg_.rpy[0];
+    p.pose.pitch = nav_msg_.rpy[1];
+    p.pose.yaw = nav_msg_.rpy[2];
+    if (mapper_.addNav(p) == Outcome::Used) newest_nav_utime_ = p.utime;
+    flush(false);
+    maybePeriodic(p.utime);
+}
+
+void MapperNode::onFls(const void* data, std::size_t size) {
+    if (guard::checkFls(data, size) != guard::Verdict::Ok) {
+        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+        return;
+    }
+    auto slot = std::find_if(fls_pending_.begin(), fls_pending_.end(), [](const PendingFls& p) { return !p.used; });
+    if (slot == fls_pending_.end()) {
+        flush(true);  // the buffer is full: process what waits rather than drop
+        ++rejects_[static_cast<int>(TransportReject::PendingOverflow)];
+        slot = std::find_if(fls_pending_.begin(), fls_pending_.end(), [](const PendingFls& p) { return !p.used; });
+    }
+    if (slot->msg.decode(data, 0, static_cast<int>(size)) < 0) {
+        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+        return;
+    }
+    trackSeq(kFls, slot->msg.seq);
+    slot->used = true;
+    slot->arrival_wall_us = wallUs();
+    flush(false);
+}
+
+void MapperNode::onPs(const void* data, std::size_t size) {
+    if (guard::checkPs(data, size) != guard::Verdict::Ok) {
+        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+        return;
+    }
+    auto slot = std::find_if(ps_pending_.begin(), ps_pending_.end(), [](const PendingPs& p) { return !p.used; });
+    if (slot == ps_pending_.end()) {
+        flush(true);
+        ++rejects_[static_cast<int>(TransportReject::PendingOverflow)];
+        slot = std::find_if(ps_pending_.begin(), ps_pending_.end(), [](const PendingPs& p) { return !p.used; });
+    }
+    if (slot->msg.decode(data, 0, static_cast<int>(size)) < 0) {
+        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+        return;
+    }
+    trackSeq(kPs, slot->msg.seq);
+    slot->used = true;
+    slot->arrival_wall_us = wallUs();
+    flush(false);
+}
+
+// Sonar messages are processed only once a NAV strictly after them has arrived
+// (or on force), in (utime, PS before FLS, seq) order: the map then never
+// depends on how the transport interleaved the channels.
+void MapperNode::flush(bool force) {
+    for (;;) {
+        PendingPs* ps = nullptr;
+        for (auto& p : ps_pending_)
+            if (p.used && (!ps || p.msg.utime < ps->msg.utime ||
+                           (p.msg.utime == ps->msg.utime && p.msg.seq < ps->msg.seq)))
+                ps = &p;
+        PendingFls* fls = nullptr;
+        for (auto& p : fls_pending_)
+            if (p.used && (!fls || p.msg.utime < fls->msg.utime ||
+                           (p.msg.utime == fls->msg.utime && p.msg.seq < fls->msg.seq)))
+                fls = &p;
+        if (!ps && !fls) return;
+        const bool take_ps = ps && (!fls || ps->msg.utime <= fls->msg.utime);
+        const int64_t utime = take_ps ? ps->msg.utime : fls->msg.utime;
+        if (!force && utime >= newest_nav_utime_) return;
+        if (take_ps) {
+            processPs(ps->msg);
+            ps->used = false;
+        } else {
+            processFls(fls->msg);
+            fls->used = false;
+        }
+    }
+}
+
+void MapperNode::tick(int64_t now_wall_us) {
+    bool stale = false;
+    for (const auto& p : ps_pending_) stale |= p.used && now_wall_us - p.arrival_wall_us > cfg_.nav_wait_timeout_us;
+    for (const auto& p : fls_pending_) stale |= p.used && now_wall_us - p.arrival_wall_us > cfg_.nav_wait_timeout_us;
+    if (stale) flush(true);
+}
+
+bool MapperNode::flsGeometryMatches(const fls_image_t& m) const {
+    const FlsModel& model = mapper_.flsModel();
+    if (m.num_beams != model.cols() || m.num_ranges != model.rows()) return true;  // size check is libfusion's
+    // Ranges and bearings must agree with the configured tables within a tenth of a bin/beam.
+    const double dr = std::fabs(model.rangeOfRow(0) - model.rangeOfRow(1));
+    for (int r : {0, m.num_ranges / 2, m.num_ranges - 1})
+        if (!(std::fabs(m.row_range[r] - model.rangeOfRow(r)) <= 0.1 * dr + 1e-4)) return false;
+    const double db = m.num_beams > 1 ? std::fabs(model.bearingOfColumn(1) - model.bearingOfColumn(0)) : 1.0;
+    for (int c : {0, m.num_beams / 2, m.num_beams - 1})
+        if (!(std::fabs(m.beam_bearing[c] - model.bearingOfColumn(c)) <= 0.1 * db + 1e-5)) return false;
+    return true;
+}
+
+void MapperNode::processFls(fls_image_t& m) {
+    const auto start = std::chrono::steady_clock::now();
+    newest_data_utime_ = std::max(newest_data_utime_, m.utime);
+    if (!flsGeometryMatches(m)) {
+        ++rejects_[static_cast<int>(TransportReject::FlsGeometryMismatch)];
+        return;
+    }
+    FlsFrame f;
+    f.utime = m.utime;
+    f.rows = m.num_ranges;
+    f.cols = m.num_beams;
+    f.data = reinterpret_cast<const uint8_t*>(m.data.data());
+    f.data_size = m.data.size();
+    if (static_cast<int64_t>(m.data_size) != static_cast<int64_t>(m.num_ranges) * m.num_beams) f.data_size = 0;
+    mapper_.addFls(f);
+    recordTime(start);
+}
+
+void MapperNode::processPs(ps_ping_t& m) {
+    const auto start = std::chrono::steady_clock::now();
+    newest_data_utime_ = std::max(newest_data_utime_, m.utime);
+    PsPing p;
+    p.utime = m.utime;
+    p.head_angle = m.head_angle;
+    p.range_min = m.range_min;
+    p.range_max = m.range_max;
+    p.bins = m.num_bins;
+    p.intensity = reinterpret_cast<const uint8_t*>(m.intensity.data());
+    mapper_.addPs(p);
+    recordTime(start);
+}
+
+void MapperNode::recordTime(std::chrono::steady_clock::time_point start) {
+    const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+    proc_last_us_ = us;
+    proc_max_us_ = std::max(proc_max_us_, us);
+    proc_us_[proc_count_ % proc_us_.size()] = us;
+    ++proc_count_;
+    if (us > cfg_.budget_us) ++overruns_;
+}
+
+double MapperNode::p99Us() const {
+    const std::size_t n = std::min(proc_count_, proc_us_.size());
+    if (n == 0) return 0.0;
+    std::copy(proc_us_.begin(), proc_us_.begin() + static_cast<std::ptrdiff_t>(n), scratch_.begin());
+    const std::size_t k = std::min(n - 1, static_cast<std::size_t>(std::ceil(0.99 * n)) - 1);
+    std::nth_element(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(k),
+                     scratch_.begin() + static_cast<std::ptrdiff_t>(n));
+    return scratch_[k];
+}
+
+void MapperNode::maybePeriodic(int64_t utime) {
+    auto due = [&](int64_t& last, double period_s) {
+        if (period_s <= 0.0) return false;
+        if (last == INT64_MIN || utime - last >= static_cast<int64_t>(period_s * 1e6)) {
+            last = utime;
+            return true;
+        }
+        return false;
+    };
+    if (due(last_status_utime_, cfg_.status_period_s)) publishStatus();
+    if (mapper_.map().initialised() && due(last_segment_utime_, cfg_.segment_period_s)) segmentAndPublish();
+    if (out_.map && mapper_.map().initialised() && due(last_map_utime_, cfg_.map_period_s)) {
+        map_snapshot_t snap;
+        snap.utime = utime;
+        snap.seq = map_seq_++;
+        const VoxelMap& vm = mapper_.map();
+        for (int i = 0; i < 3; ++i) snap.origin[i] = vm.origin()[i];
+        snap.resolution = vm.resolution();
+        snap.dims[0] = vm.nx(), snap.dims[1] = vm.ny(), snap.dims[2] = vm.nz();
+        const float thr = static_cast<float>(logOddsFromProbability(cfg_.mapper.segmentation.occupied_probability));
+        for (std::size_t i = 0; i < vm.size(); ++i) {
+            if (vm.logOdds(i) <= thr) continue;
+            snap.index.push_back(static_cast<int32_t>(i));
+            snap.log_odds.push_back(vm.logOdds(i));
+            snap.flags.push_back(static_cast<int8_t>(vm.flags(i)));
+        }
+        snap.num_voxels = static_cast<int32_t>(snap.index.size());
+        out_.map(snap);
+    }
+}
+
+void MapperNode::segmentAndPublish() {
+    if (!mapper_.map().initialised()) return;
+    mapper_.segment();
+    if (!out_.objects) return;
+    objects_t msg;
+    msg.utime = newest_data_utime_;
+    msg.seq = objects_seq_++;
+    for (const ObjectInfo& o : mapper_.segmenter().objects()) {
+        object_t t;
+        t.id = o.id;
+        t.voxel_count = o.voxel_count;
+        t.volume_m3 = o.volume_m3;
+        t.height_m = o.height_m;
+        for (int i = 0; i < 3; ++i) {
+            t.centroid[i] = o.centroid[i];
+            t.bbox_min[i] = o.bbox_min[i];
+            t.bbox_max[i] = o.bbox_max[i];
+        }
+        msg.objects.push_back(t);
+    }
+    msg.num_objects = static_cast<int32_t>(msg.objects.size());
+    out_.objects(msg);
+}
+
+mapper_status_t MapperNode::status() const {
+    mapper_status_t s;
+    s.utime = newest_data_utime_;
+    s.seq = status_seq_;
+    s.state = mapper_.map().initialised() ? "mapping" : "idle";
+    s.variant = variant_;
+    const VoxelMap& m = mapper_.map();
+    for (int i = 0; i < 3; ++i) {
+        s.map_origin[i] = m.origin()[i];
+        s.map_centre[i] = m.centre()[i];
+    }
+    const MapperCounters& c = mapper_.counters();
+    s.nav_in = c.nav_in;
+    s.fls_in = c.fls_in;
+    s.ps_in = c.ps_in;
+    s.fls_used = c.fls_used;
+    s.ps_used = c.ps_used;
+    for (int i = 1; i < kOutcomeCount; ++i) {
+        s.reason_name.emplace_back(outcomeName(static_cast<Outcome>(i)));
+        s.reason_count.push_back(c.by_outcome[i]);
+    }
+    for (int i = 0; i < static_cast<int>(TransportReject::kCount); ++i) {
+        s.reason_name.emplace_back(kTransportNames[i]);
+        s.reason_count.push_back(rejects_[i]);
+    }
+    s.num_reasons = static_cast<int32_t>(s.reason_name.size());
+    s.nav_seq_gaps = gaps_[kNav];
+    s.fls_seq_gaps = gaps_[kFls];
+    s.ps_seq_gaps = gaps_[kPs];
+    s.proc_last_us = proc_last_us_;
+    s.proc_max_us = proc_max_us_;
+    s.proc_p99_us = p99Us();
+    s.budget_overruns = overruns_;
+    s.budget_us = cfg_.budget_us;
+    return s;
+}
+
+void MapperNode::publishStatus() {
+    if (!out_.status) return;
+    out_.status(status());
+    ++status_seq_;
+}
+
+}  // namespace sonarfusion

@@ -1,0 +1,101 @@
+// The daemon's core, shared by the live LCM loop and the offline log reader:
+// raw message bytes in (after the guard), deterministic ordering against NAV,
+// libfusion, counters and timing out. No LCM instance inside: output goes
+// through a callback so tests and offline mode need no network.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <sonarfusion/fls_image_t.hpp>
+#include <sonarfusion/map_snapshot_t.hpp>
+#include <sonarfusion/mapper_status_t.hpp>
+#include <sonarfusion/nav_state_t.hpp>
+#include <sonarfusion/objects_t.hpp>
+#include <sonarfusion/ps_ping_t.hpp>
+
+#include "mapper_config_yaml.hpp"
+#include "sonarfusion/mapper.hpp"
+
+namespace sonarfusion {
+
+// Reasons the daemon rejects a message before libfusion sees it.
+enum class TransportReject : int { Malformed = 0, FlsGeometryMismatch, Stale, PendingOverflow, kCount };
+
+class MapperNode {
+public:
+    struct Publisher {
+        std::function<void(const mapper_status_t&)> status;
+        std::function<void(const objects_t&)> objects;
+        std::function<void(const map_snapshot_t&)> map;
+    };
+
+    MapperNode(const DaemonConfig& cfg, Publisher out);
+
+    // One raw message from `channel`; unknown channels are ignored.
+    void handle(const std::string& channel, const void* data, std::size_t size);
+    // Processes every pending sonar message that NAV now brackets; with
+    // `force`, also those still waiting (end of a log, or a NAV timeout).
+    void flush(bool force);
+    // Called periodically in live mode: releases messages that waited too long.
+    void tick(int64_t now_wall_us);
+
+    void segmentAndPublish();
+    void publishStatus();
+
+    [[nodiscard]] const Mapper& mapper() const { return mapper_; }
+    [[nodiscard]] const DaemonConfig& config() const { return cfg_; }
+    [[nodiscard]] int64_t seqGaps(int channel) const { return gaps_[channel]; }
+    [[nodiscard]] int64_t transportRejects(TransportReject r) const { return rejects_[static_cast<int>(r)]; }
+    [[nodiscard]] double p99Us() const;
+    [[nodiscard]] double maxUs() const { return proc_max_us_; }
+    [[nodiscard]] mapper_status_t status() const;
+
+private:
+    struct PendingFls {
+        fls_image_t msg;
+        bool used = false;
+        int64_t arrival_wall_us = 0;
+    };
+    struct PendingPs {
+        ps_ping_t msg;
+        bool used = false;
+        int64_t arrival_wall_us = 0;
+    };
+
+    void onNav(const void* data, std::size_t size);
+    void onFls(const void* data, std::size_t size);
+    void onPs(const void* data, std::size_t size);
+    void processFls(fls_image_t& m);
+    void processPs(ps_ping_t& m);
+    bool flsGeometryMatches(const fls_image_t& m) const;
+    void trackSeq(int channel, int64_t seq);
+    void recordTime(std::chrono::steady_clock::time_point start);
+    void maybePeriodic(int64_t data_utime);
+
+    DaemonConfig cfg_;
+    Publisher out_;
+    Mapper mapper_;
+    std::string variant_;
+    nav_state_t nav_msg_;
+    std::vector<PendingFls> fls_pending_;  // fixed slots, decoded into in place
+    std::vector<PendingPs> ps_pending_;
+    std::array<int64_t, 3> last_seq_{{-1, -1, -1}};
+    std::array<int64_t, 3> gaps_{};
+    std::array<int64_t, static_cast<int>(TransportReject::kCount)> rejects_{};
+    int64_t newest_nav_utime_ = INT64_MIN;
+    std::vector<double> proc_us_;  // ring of recent processing times
+    mutable std::vector<double> scratch_;
+    std::size_t proc_count_ = 0;
+    double proc_last_us_ = 0.0, proc_max_us_ = 0.0;
+    int64_t overruns_ = 0;
+    int64_t status_seq_ = 0, objects_seq_ = 0, map_seq_ = 0;
+    int64_t last_status_utime_ = INT64_MIN, last_segment_utime_ = INT64_MIN, last_map_utime_ = INT64_MIN;
+    int64_t newest_data_utime_ = 0;
+};
+
+}  // namespace sonarfusion
