@@ -1,0 +1,125 @@
+// A simulation scenario as loaded from YAML (docs/scenario-format.md): scene
+// meshes, sensor geometry and mounting, trajectory, noise and seed. The
+// simulator, the mapper daemon and the evaluator all read this one struct.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sonarfusion/config.hpp"
+
+namespace sonarfusion::sim {
+
+// Thrown for any bad scenario input; what() names the offending field,
+// e.g. "scenario field 'fls.range_max': must be > range_min".
+class ScenarioError : public std::runtime_error {
+public:
+    ScenarioError(const std::string& field, const std::string& problem)
+        : std::runtime_error("scenario field '" + field + "': " + problem), field_(field) {}
+    [[nodiscard]] const std::string& field() const { return field_; }
+
+private:
+    std::string field_;
+};
+
+enum class MeshRole { Seabed, Object };
+
+struct MeshSpec {
+    std::string path;           // absolute, or relative to the scenario file when loaded
+    MeshRole role = MeshRole::Object;
+    double impedance = 8.0;     // MRayl (acoustic impedance Z of the material)
+    double face_angle_deg = 0;  // true end-face angle alpha of an object, 0 when not given
+};
+
+struct SceneSpec {
+    std::vector<MeshSpec> meshes;
+    double water_impedance = 1.5;  // MRayl, Z0
+    double seabed_depth = 20.0;    // m (NED z), turns pass altitudes into depths
+};
+
+// Simulator-only parameters of the FLS beyond the mapper's FlsGeometry.
+struct FlsSimParams {
+    std::string name = "DIDSON";
+    int rays_azimuth = 4;      // rays across one beam's azimuth width
+    int rays_elevation = 256;  // rays across the vertical aperture
+    double gain_db = 0.0;      // extra gain on top of the calibrated default
+    double tvg_db_per_decade = 40.0;  // 40 log R undoes two-way spreading
+    double source_level = 1.0;        // I0
+    double sound_speed = 1500.0;      // m/s (informational, in the message)
+    double frequency_hz = 1.8e6;
+};
+
+struct PsSimParams {
+    std::string name = "881A";
+    double head_step = 0.9 * kDegToRad;         // rad per sequence of the sector scan
+    double beam_width_vertical = 2.0 * kDegToRad;  // rad, the fan's thin direction
+    int rays_fan = 64;        // rays across the horizontal fan
+    int rays_vertical = 5;    // rays across the vertical beam width
+    double gain_db = 0.0;
+    double tvg_db_per_decade = 40.0;
+    double source_level = 1.0;
+};
+
+struct NoiseSpec {
+    bool speckle = true;
+    int scatterers = 8;              // random-phase scatterers per pixel
+    double coherent_fraction = 0.2;  // share of the echo power that is coherent (no speckle)
+    double floor = 10.0;             // rms of the additive water noise, in 8-bit counts
+};
+
+struct StraightPass {
+    double heading = 0.0;       // rad, 0 = north
+    double altitude = 3.12;     // m above scene.seabed_depth
+    double step = 0.005;        // m per sequence
+    int sequences = 1600;
+    double start_offset = 6.0;  // m before the centre point, along the heading
+    double centre_x = 0.0, centre_y = 0.0;  // NED point the pass flies over
+};
+
+struct WaypointPath {
+    double step = 0.005;  // m per sequence along the polyline
+    std::vector<std::array<double, 3>> points;  // NED x, y, z
+};
+
+struct TrajectorySpec {
+    double sequence_period = 0.05;     // s between sequences
+    int64_t start_utime = 1700000000000000;  // us of the first sequence
+    double pass_gap = 5.0;             // s of silence between legs (turn-around)
+    int fls_every = 4;                 // an FLS frame every Nth sequence
+    std::vector<StraightPass> passes;
+    std::vector<WaypointPath> waypoints;  // flown after the passes
+};
+
+struct Channels {
+    std::string nav = "NAV", fls = "FLS", ps = "PS";
+};
+
+struct Scenario {
+    std::string name;
+    std::string source_path;  // the YAML file, empty when loaded from a string
+    SceneSpec scene;
+    FlsGeometry fls;
+    PsGeometry ps;
+    Mounting fls_mount, ps_mount;
+    FlsSimParams fls_sim;
+    PsSimParams ps_sim;
+    NoiseSpec noise;
+    TrajectorySpec trajectory;
+    Channels channels;
+    uint64_t seed = 1;
+
+    // The end-face angle of the first object mesh that declares one (deg), or 0.
+    [[nodiscard]] double trueFaceAngleDeg() const;
+    [[nodiscard]] std::vector<std::string> meshPaths(MeshRole role) const;
+};
+
+// Loads and validates a scenario. Mesh paths are resolved relative to the
+// file's folder and must exist. Throws ScenarioError naming the field.
+[[nodiscard]] Scenario loadScenario(const std::string& path);
+// Same from YAML text; relative mesh paths resolve against base_dir.
+[[nodiscard]] Scenario loadScenarioFromString(const std::string& yaml, const std::string& base_dir);
+
+}  // namespace sonarfusion::sim

@@ -1,0 +1,111 @@
+#include "simulator.hpp"
+
+#include <algorithm>
+
+#include "parallel.hpp"
+
+namespace sonarfusion::sim {
+
+Simulator::Simulator(const Scenario& scenario)
+    : scenario_(scenario),
+      scene_(std::make_unique<Scene>(scenario.scene)),
+      fls_(std::make_unique<FlsSimulator>(*scene_, scenario_)),
+      ps_(std::make_unique<PsSimulator>(*scene_, scenario_)),
+      sequences_(buildSequences(scenario_)) {}
+
+double Simulator::altitudeBelow(const Pose& vehicle) const {
+    // An altimeter looking straight down the body z axis; -1 when nothing is below.
+    const Eigen::Vector3f down = (vehicle.rotation() * Eigen::Vector3d::UnitZ()).cast<float>();
+    RayHit hit;
+    scene_->cast(vehicle.position.cast<float>(), &down, 1, 0.0f, 1000.0f, &hit);
+    return hit.hit ? hit.range : -1.0;
+}
+
+fls_image_t Simulator::flsMessage(const SequenceState& q, const FlsImage& image) const {
+    const FlsGeometry& g = scenario_.fls;
+    const Mounting& m = scenario_.fls_mount;
+    const FlsModel& model = fls_->model();
+    fls_image_t msg;
+    msg.utime = q.utime;
+    msg.seq = q.index / scenario_.trajectory.fls_every;  // frames before this one
+    msg.sensor_name = scenario_.fls_sim.name;
+    msg.sound_speed = static_cast<float>(scenario_.fls_sim.sound_speed);
+    msg.frequency_hz = static_cast<float>(scenario_.fls_sim.frequency_hz);
+    msg.mount_xyz[0] = static_cast<float>(m.x);
+    msg.mount_xyz[1] = static_cast<float>(m.y);
+    msg.mount_xyz[2] = static_cast<float>(m.z);
+    msg.mount_roll_yaw[0] = static_cast<float>(m.roll);
+    msg.mount_roll_yaw[1] = static_cast<float>(m.yaw);
+    msg.tilt = static_cast<float>(g.tilt);
+    msg.elevation_min = static_cast<float>(g.elevation_min);
+    msg.elevation_max = static_cast<float>(g.elevation_max);
+    msg.num_beams = model.cols();
+    for (int c = 0; c < model.cols(); ++c) msg.beam_bearing.push_back(static_cast<float>(model.bearingOfColumn(c)));
+    msg.num_ranges = model.rows();
+    for (int r = 0; r < model.rows(); ++r) msg.row_range.push_back(static_cast<float>(model.rangeOfRow(r)));
+    msg.data_size = static_cast<int32_t>(image.data.size());
+    msg.data = image.data;
+    return msg;
+}
+
+ps_ping_t Simulator::psMessage(const SequenceState& q, std::vector<uint8_t> intensity) const {
+    const PsGeometry& g = scenario_.ps;
+    const Mounting& m = scenario_.ps_mount;
+    ps_ping_t msg;
+    msg.utime = q.utime;
+    msg.seq = q.index;
+    msg.sensor_name = scenario_.ps_sim.name;
+    msg.mount_xyz[0] = static_cast<float>(m.x);
+    msg.mount_xyz[1] = static_cast<float>(m.y);
+    msg.mount_xyz[2] = static_cast<float>(m.z);
+    msg.mount_roll_yaw[0] = static_cast<float>(m.roll);
+    msg.mount_roll_yaw[1] = static_cast<float>(m.yaw);
+    msg.tilt = static_cast<float>(g.tilt);
+    msg.head_angle = static_cast<float>(q.head_angle);
+    msg.fan_min = static_cast<float>(g.fan_min);
+    msg.fan_max = static_cast<float>(g.fan_max);
+    msg.range_min = static_cast<float>(g.range_min);
+    msg.range_max = static_cast<float>(g.range_max);
+    msg.num_bins = static_cast<int32_t>(intensity.size());
+    msg.intensity = std::move(intensity);
+    return msg;
+}
+
+SequenceOutput Simulator::simulate(const SequenceState& q, int threads) const {
+    SequenceOutput out;
+    out.state = q;
+    nav_state_t& nav = out.nav;
+    nav.utime = q.utime;
+    nav.seq = q.index;
+    for (int a = 0; a < 3; ++a) {
+        nav.position_ned[a] = q.pose.position[a];
+        nav.velocity_ned[a] = q.velocity[a];
+    }
+    nav.rpy[0] = q.pose.roll;
+    nav.rpy[1] = q.pose.pitch;
+    nav.rpy[2] = q.pose.yaw;
+    nav.altitude = altitudeBelow(q.pose);
+
+    out.ps = psMessage(q, ps_->ping(q.pose, q.head_angle, q.index));
+    out.has_fls = q.has_fls;
+    if (q.has_fls) out.fls = flsMessage(q, fls_->render(q.pose, q.index, threads));
+    return out;
+}
+
+void Simulator::run(int threads, int64_t count, const std::function<void(const SequenceOutput&)>& sink) const {
+    threads = resolveThreads(threads);
+    const int64_t total =
+        count < 0 ? static_cast<int64_t>(sequences_.size()) : std::min<int64_t>(count, sequences_.size());
+    // Whole sequences are spread over the threads in batches; the sink sees
+    // them in order, so output bytes do not depend on the thread count.
+    const int64_t batch = 8 * threads;
+    std::vector<SequenceOutput> results;
+    for (int64_t start = 0; start < total; start += batch) {
+        const int n = static_cast<int>(std::min(batch, total - start));
+        results.assign(n, SequenceOutput{});
+        parallelFor(n, threads, [&](int i) { results[i] = simulate(sequences_[start + i], 1); });
+        for (const SequenceOutput& r : results) sink(r);
+    }
+}
+
+}  // namespace sonarfusion::sim
