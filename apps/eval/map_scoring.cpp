@@ -1,0 +1,48 @@
+#include "map_scoring.hpp"
+
+#include "sonarfusion/config.hpp"
+
+namespace sonarfusion::eval {
+
+Prediction segmentMap(const VoxelMap& map, Variant variant) {
+    MapperConfig cfg;
+    applyVariant(variant, cfg);
+    Segmenter seg(cfg.segmentation, cfg.update.require_ps_observation, map);
+    Prediction p;
+    p.stats = seg.run(map);
+    p.object.assign(map.size(), 0);
+    p.occupied.assign(map.size(), 0);
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        p.object[i] = seg.objectLabel(i) > 0;
+        p.occupied[i] = seg.occupied(i);
+    }
+    return p;
+}
+
+VariantScore scorePrediction(const GridSpec& grid, const Prediction& prediction, const GroundTruth& gt,
+                             const SceneTruth& scene, const EndFaceSelection& selection) {
+    VariantScore s;
+    s.metrics = computeMetrics(grid, prediction.object, gt.object.solid, gt.visible);
+    for (std::size_t k = 0; k < gt.visible_by_run.size(); ++k)
+        s.recall_by_run.emplace_back(scene.run_names[k], recallOn(grid, prediction.object, gt.visible_by_run[k]));
+    double sum = 0.0, truth_sum = 0.0;
+    int n = 0, n_truth = 0;
+    for (const TriangleMesh& object : scene.objects)
+        for (const EndFace& face : findEndFaces(object, scene.along_track)) {
+            s.faces.push_back(measureEndFace(grid, prediction.object, face, selection));
+            truth_sum += face.true_angle_deg;
+            ++n_truth;
+            if (s.faces.back().angle_deg) {
+                sum += *s.faces.back().angle_deg;
+                ++n;
+            }
+        }
+    if (n > 0) s.face_angle_deg = sum / n;
+    if (scene.declared_face_angle_deg) s.true_face_angle_deg = scene.declared_face_angle_deg;
+    else if (n_truth > 0) s.true_face_angle_deg = truth_sum / n_truth;
+    s.segmentation = prediction.stats;
+    s.objects = prediction.stats.objects;
+    return s;
+}
+
+}  // namespace sonarfusion::eval

@@ -1,0 +1,42 @@
+// Scores one saved map against the ground truth: segments it with the config
+// of its variant (applyVariant + Segmenter, as the mapper does) and computes
+// the metrics and end-face angles.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "end_face.hpp"
+#include "ground_truth.hpp"
+#include "metrics.hpp"
+#include "sonarfusion/segmentation.hpp"
+#include "sonarfusion/variant.hpp"
+#include "sonarfusion/voxel_map.hpp"
+
+namespace sonarfusion::eval {
+
+struct Prediction {
+    VoxelMask object;    // voxels with an object label
+    VoxelMask occupied;  // p above the segmentation threshold
+    SegmentationStats stats;
+};
+
+[[nodiscard]] Prediction segmentMap(const VoxelMap& map, Variant variant);
+
+struct VariantScore {
+    std::string variant;
+    std::string map_path;
+    Metrics metrics;
+    std::vector<std::pair<std::string, std::optional<double>>> recall_by_run;  // ("ps", 0.97), ...
+    std::vector<FaceAngle> faces;          // front (+along-track) first
+    std::optional<double> face_angle_deg;  // mean of the faces that have an angle
+    std::optional<double> true_face_angle_deg;
+    SegmentationStats segmentation;
+    int objects = 0;
+};
+
+[[nodiscard]] VariantScore scorePrediction(const GridSpec& grid, const Prediction& prediction, const GroundTruth& gt,
+                                           const SceneTruth& scene, const EndFaceSelection& selection = {});
+
+}  // namespace sonarfusion::eval

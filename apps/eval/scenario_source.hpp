@@ -1,0 +1,25 @@
+// The only part of sf-eval that knows the simulator's scenario format: turns
+// a scenario file into the evaluator's plain inputs (mesh paths, sensor poses
+// and fields of view, along-track axis).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "visibility.hpp"
+
+namespace sonarfusion::eval {
+
+struct EvalScenario {
+    std::string name;
+    std::vector<std::string> object_meshes, seabed_meshes;
+    std::vector<SensorRun> runs;  // "fls" (frames only), "ps" (every sequence)
+    Eigen::Vector3d along_track = Eigen::Vector3d::UnitX();  // heading of the first pass
+    std::optional<double> declared_face_angle_deg;
+};
+
+// Throws (the scenario library's ScenarioError, std::runtime_error) on bad input.
+[[nodiscard]] EvalScenario loadEvalScenario(const std::string& path);
+
+}  // namespace sonarfusion::eval
