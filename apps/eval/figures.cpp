@@ -109,8 +109,8 @@ void drawAxes(cv::Mat& img, const View& view, const std::string& title, const st
         text(img, metres(v), p + cv::Point(-48, 5));
     }
     text(img, "x (north, along-track) [m]", {kLeft + w / 2 - 100, kTop + h + 45});
-    text(img, view.side ? "depth z [m]" : "y (east) [m]", {6, kTop - 10});
-    text(img, title, {kLeft, 26}, 0.55, 1);
+    text(img, view.side ? "depth z [m]" : "y (east) [m]", {6, kTop - 6});
+    text(img, title, {kLeft, 18}, 0.55, 1);
     // Colour bar: 1 .. max_count voxels along the projection axis.
     const int bx = kLeft + w + 20, bh = std::max(60, h - 20);
     for (int r = 0; r < bh; ++r) {
