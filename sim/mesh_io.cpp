@@ -40,7 +40,12 @@ TriangleMesh loadObj(std::istream& in, const std::string& path) {
             std::string token;
             while (ls >> token) {
                 // "i", "i/t", "i//n", "i/t/n"; negative indices count from the end.
-                const long i = std::stol(token.substr(0, token.find('/')));
+                long i = 0;
+                try {
+                    i = std::stol(token.substr(0, token.find('/')));
+                } catch (const std::logic_error&) {
+                    fail(path, "bad face line: " + line);
+                }
                 idx.push_back(i < 0 ? static_cast<long>(m.vertices.size()) + i : i - 1);
             }
             addPolygon(m, idx, path);
