@@ -19,8 +19,14 @@ void LogWriter::write(const std::string& channel, int64_t utime, const std::vect
     if (log_.writeEvent(&event) != 0) throw std::runtime_error("writing the LCM log failed");
 }
 
-LivePublisher::LivePublisher(const std::string& url, double rate) : lcm_(url), rate_(rate) {
-    if (!lcm_.good()) throw std::runtime_error("cannot open LCM" + (url.empty() ? std::string() : " at " + url));
+LivePublisher::LivePublisher(const std::string& url, double rate)
+    : owned_(std::make_unique<lcm::LCM>(url)), lcm_(owned_.get()), rate_(rate) {
+    if (!lcm_->good()) throw std::runtime_error("cannot open LCM" + (url.empty() ? std::string() : " at " + url));
+    if (rate < 0.0) throw std::invalid_argument("--rate must be >= 0");
+}
+
+LivePublisher::LivePublisher(lcm::LCM& lcm, double rate) : lcm_(&lcm), rate_(rate) {
+    if (!lcm_->good()) throw std::runtime_error("LCM instance is not usable");
     if (rate < 0.0) throw std::invalid_argument("--rate must be >= 0");
 }
 
@@ -35,7 +41,7 @@ void LivePublisher::write(const std::string& channel, int64_t utime, const std::
                                            static_cast<int64_t>(static_cast<double>(utime - first_utime_) / rate_));
         std::this_thread::sleep_until(due);
     }
-    if (lcm_.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size())) != 0) ++failures_;
+    if (lcm_->publish(channel, bytes.data(), static_cast<unsigned>(bytes.size())) != 0) ++failures_;
 }
 
 void writeSequence(MessageWriter& out, const Channels& channels, const SequenceOutput& seq) {

@@ -42,12 +42,15 @@ class LivePublisher : public MessageWriter {
 public:
     // rate: 1 = real time, 2 = twice as fast, 0 = as fast as possible.
     LivePublisher(const std::string& url, double rate);
+    // Publishes on an LCM instance owned by the caller (tests use memq://).
+    LivePublisher(lcm::LCM& lcm, double rate);
     void write(const std::string& channel, int64_t utime, const std::vector<uint8_t>& bytes) override;
     // Messages LCM refused to send (best effort: counted, not fatal).
     [[nodiscard]] int64_t failures() const { return failures_; }
 
 private:
-    lcm::LCM lcm_;
+    std::unique_ptr<lcm::LCM> owned_;
+    lcm::LCM* lcm_;
     int64_t failures_ = 0;
     double rate_;
     bool started_ = false;

@@ -42,13 +42,16 @@ protected:
         saveObj(test::flatPlane(20.0), dir.file("plane.obj"));
         saveObj(test::box(4.0, 0.5, 19.5, 0.5, 0.5, 0.5), dir.file("box.obj"));
     }
-    std::string simulate(uint64_t seed, int threads, const std::string& name) {
+    Scenario scenario(uint64_t seed) {
         TinyScenario t;
         t.meshes = "- {file: plane.obj, role: seabed}\n- {file: box.obj, role: object}\n";
         t.sequences = 12;
         t.noise = "{speckle: true, floor: 10}";
         t.extra = "seed: " + std::to_string(seed) + "\nfls: {rays_elevation: 64}\n";
-        const Scenario s = loadScenarioFromString(t.yaml(), dir.path());
+        return loadScenarioFromString(t.yaml(), dir.path());
+    }
+    std::string simulate(uint64_t seed, int threads, const std::string& name) {
+        const Scenario s = scenario(seed);
         const Simulator sim(s);
         const std::string path = dir.file(name);
         {
@@ -102,6 +105,34 @@ TEST_F(DeterminismTest, DifferentSeedChangesOnlyTheNoise) {
     }
     EXPECT_EQ(fls_differs, 3);
     EXPECT_EQ(ps_differs, 12);
+}
+
+TEST_F(DeterminismTest, LivePublishingSendsTheLogsBytes) {
+    const auto logged = readLog(simulate(7, 2, "a.lcmlog"));
+    lcm::LCM lcm("memq://");
+    ASSERT_TRUE(lcm.good());
+    std::vector<Event> received;
+    struct Recorder {
+        std::vector<Event>* out;
+        void handle(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+            out->push_back({channel, 0, std::string(static_cast<const char*>(rbuf->data), rbuf->data_size)});
+        }
+    } recorder{&received};
+    lcm.subscribe(".*", &Recorder::handle, &recorder);
+    const Scenario s = scenario(7);
+    const Simulator sim(s);
+    LivePublisher live(lcm, 0.0);
+    sim.run(1, -1, [&](const SequenceOutput& out) {
+        writeSequence(live, s.channels, out);
+        while (lcm.handleTimeout(0) > 0) {
+        }
+    });
+    ASSERT_EQ(received.size(), logged.size());
+    for (std::size_t i = 0; i < logged.size(); ++i) {
+        EXPECT_EQ(received[i].channel, logged[i].channel);
+        EXPECT_TRUE(received[i].data == logged[i].data) << "message " << i;
+    }
+    EXPECT_EQ(live.failures(), 0);
 }
 
 TEST_F(DeterminismTest, SequenceCountersPerChannel) {
