@@ -87,6 +87,7 @@ int runLive(MapperNode& node, lcm::LCM& lcm) {
     int64_t last_status = wallUs();
     while (!g_stop) {
         if (lcm.handleTimeout(100) < 0) {
+            if (g_stop) break;  // the signal interrupted select(): a normal stop
             spdlog::error("LCM handle failed");
             return 2;
         }
