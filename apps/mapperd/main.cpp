@@ -32,6 +32,30 @@ void writeOutputs(MapperNode& node, const std::string& map_out) {
     spdlog::info("map written to {} (+ .ply)", map_out);
 }
 
+// The final MAPPER_STATUS as JSON, for scripts (tools/mission merges it into report.json).
+void writeStatusJson(const MapperNode& node, const std::string& path) {
+    const mapper_status_t s = node.status();
+    const std::string tmp = path + ".tmp";
+    FILE* f = std::fopen(tmp.c_str(), "w");
+    if (!f) throw std::runtime_error("cannot write " + tmp);
+    std::fprintf(f, "{\n  \"state\": \"%s\", \"variant\": \"%s\",\n", s.state.c_str(), s.variant.c_str());
+    std::fprintf(f, "  \"map_centre\": [%.4f, %.4f, %.4f],\n", s.map_centre[0], s.map_centre[1], s.map_centre[2]);
+    std::fprintf(f, "  \"nav_in\": %lld, \"fls_in\": %lld, \"ps_in\": %lld, \"fls_used\": %lld, \"ps_used\": %lld,\n",
+                 static_cast<long long>(s.nav_in), static_cast<long long>(s.fls_in), static_cast<long long>(s.ps_in),
+                 static_cast<long long>(s.fls_used), static_cast<long long>(s.ps_used));
+    std::fprintf(f, "  \"seq_gaps\": {\"nav\": %lld, \"fls\": %lld, \"ps\": %lld},\n",
+                 static_cast<long long>(s.nav_seq_gaps), static_cast<long long>(s.fls_seq_gaps),
+                 static_cast<long long>(s.ps_seq_gaps));
+    std::fprintf(f, "  \"proc_us\": {\"last\": %.1f, \"max\": %.1f, \"p99\": %.1f, \"budget\": %.1f, \"overruns\": %lld},\n",
+                 s.proc_last_us, s.proc_max_us, s.proc_p99_us, s.budget_us, static_cast<long long>(s.budget_overruns));
+    std::fprintf(f, "  \"rejected\": {");
+    for (int i = 0; i < s.num_reasons; ++i)
+        std::fprintf(f, "%s\"%s\": %lld", i ? ", " : "", s.reason_name[i].c_str(), static_cast<long long>(s.reason_count[i]));
+    std::fprintf(f, "},\n  \"objects\": %zu\n}\n", node.mapper().segmenter().objects().size());
+    const bool ok = std::fclose(f) == 0;
+    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write " + path);
+}
+
 void printSummary(const MapperNode& node) {
     const mapper_status_t s = node.status();
     std::printf("state %s  variant %s  nav %lld  fls %lld/%lld used  ps %lld/%lld used\n", s.state.c_str(),
@@ -104,13 +128,14 @@ int runLive(MapperNode& node, lcm::LCM& lcm) {
 
 int main(int argc, char** argv) {
     CLI::App app{"sf-mapper: FLS + profiling-sonar fusion mapper daemon"};
-    std::string config_path, log_path, map_out, variant, lcm_url;
+    std::string config_path, log_path, map_out, variant, lcm_url, status_out;
     bool quiet = false;
     app.add_option("--config", config_path, "mapper YAML config (docs/mapper-config.md)")->required()->check(CLI::ExistingFile);
     app.add_option("--log", log_path, "offline: read this LCM log as fast as possible instead of listening")->check(CLI::ExistingFile);
     app.add_option("--map-out", map_out, "final map file (binary; a .ply is written beside it)")->required();
     app.add_option("--variant", variant, "fls_only, carve_only, paper or fused (overrides the config's preset)");
     app.add_option("--lcm-url", lcm_url, "LCM provider URL (live mode)");
+    app.add_option("--status-out", status_out, "write the final status (counts, timing) as JSON here");
     app.add_flag("--quiet", quiet, "no summary on stdout");
     CLI11_PARSE(app, argc, argv);
 
@@ -149,6 +174,7 @@ int main(int argc, char** argv) {
         if (rc != 0) return rc;
         writeOutputs(node, map_out);
         if (lcm) node.publishStatus();
+        if (!status_out.empty()) writeStatusJson(node, status_out);
         if (!quiet) printSummary(node);
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
