@@ -1,0 +1,479 @@
+// sf-map-bench: the reference scenario's exact voxel update stream, timed in
+// our VoxelMap, in OctoMap (identical updates, and the way its users call it),
+// and in a bare float array (the memory floor); then the mapper's per-message
+// latency. Every ratio comes from one run; no absolute time is asserted.
+#include <CLI/CLI.hpp>
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "sonarfusion/variant.hpp"
+#include "update_stream.hpp"
+
+using namespace sonarfusion;
+using sfbench::MessageRecord;
+using sfbench::UpdateStream;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+double probabilityOf(double log_odds) { return 1.0 / (1.0 + std::exp(-log_odds)); }
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return NAN;
+    std::sort(v.begin(), v.end());
+    const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(q * v.size())) - (q > 0 ? 1 : 0));
+    return v[k];
+}
+
+// The part of the recording a run replays: its first `messages` map-changing messages.
+struct Prefix {
+    std::size_t messages = 0, updates = 0, rays = 0, fls_updates = 0, ps_updates = 0;
+};
+
+Prefix prefixOf(const UpdateStream& s, double fraction) {
+    Prefix p;
+    p.messages = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(fraction * s.messages.size())));
+    p.messages = std::min(p.messages, s.messages.size());
+    for (std::size_t i = 0; i < p.messages; ++i) {
+        const MessageRecord& m = s.messages[i];
+        (m.kind == MessageRecord::Fls ? p.fls_updates : p.ps_updates) += m.end - m.begin;
+    }
+    p.updates = s.messages[p.messages - 1].end;
+    for (std::size_t i = p.messages; i-- > 0;)
+        if (s.messages[i].kind == MessageRecord::Ps) {
+            p.rays = s.messages[i].ray_end;
+            break;
+        }
+    return p;
+}
+
+// OctoMap at our resolution, clamped at our ±5 log-odds. Coordinates given to
+// it are world minus our grid's min corner, so its key k covers our voxel k - 2^15.
+std::unique_ptr<octomap::OcTree> makeOcTree(const VoxelMap& map) {
+    auto tree = std::make_unique<octomap::OcTree>(map.resolution());
+    tree->setClampingThresMin(probabilityOf(map.clampMin()));
+    tree->setClampingThresMax(probabilityOf(map.clampMax()));
+    return tree;
+}
+
+struct GridKeys {
+    const VoxelMap& map;
+    const octomap::OcTree& tree;
+    // Our voxel -> OcTree key through the world coordinates of the voxel's centre.
+    [[nodiscard]] octomap::OcTreeKey keyOf(std::size_t voxel) const {
+        const Eigen::Vector3d c = map.centreOf(map.fromLinear(voxel)) - map.origin();
+        return tree.coordToKey(octomap::point3d(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())));
+    }
+    [[nodiscard]] bool inGrid(const octomap::OcTreeKey& k) const {
+        constexpr int kOffset = 32768;
+        return k[0] - kOffset < map.nx() && k[1] - kOffset < map.ny() && k[2] - kOffset < map.nz() && k[0] >= kOffset &&
+               k[1] >= kOffset && k[2] >= kOffset;
+    }
+};
+
+struct OccupancyCompare {
+    std::size_t ours = 0, theirs = 0, both = 0, differ = 0;
+    double jaccard() const { return ours + theirs - both == 0 ? 1.0 : double(both) / double(ours + theirs - both); }
+};
+
+OccupancyCompare compareOccupied(const VoxelMap& map, const octomap::OcTree& tree, const GridKeys& keys, float threshold) {
+    OccupancyCompare c;
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        const bool ours = map.logOdds(i) > threshold;
+        const octomap::OcTreeNode* n = tree.search(keys.keyOf(i));
+        const bool theirs = n != nullptr && n->getLogOdds() > threshold;
+        c.ours += ours;
+        c.theirs += theirs;
+        c.both += ours && theirs;
+        c.differ += ours != theirs;
+    }
+    return c;
+}
+
+// --- the timed loops -------------------------------------------------------
+
+double runVoxelMapStream(const UpdateStream& s, const Prefix& p, VoxelMap& map) {
+    map.initialiseAt(s.map_centre);  // clears, same origin as the Mapper's
+    const auto t = Clock::now();
+    sfbench::replayStream(s, p.updates, map);
+    return secondsSince(t);
+}
+
+double runFloor(const UpdateStream& s, const Prefix& p, std::vector<float>& cells) {
+    std::fill(cells.begin(), cells.end(), 0.0f);
+    const sfbench::VoxelUpdate* u = s.updates.data();
+    const auto t = Clock::now();
+    // The memory floor: the same indices read and written, no clamp, no flags.
+    for (std::size_t i = 0; i < p.updates; ++i) cells[u[i].voxel] += u[i].delta;
+    return secondsSince(t);
+}
+
+double runOctomapStream(const UpdateStream& s, const Prefix& p, const std::vector<octomap::OcTreeKey>& keys,
+                        octomap::OcTree& tree) {
+    const auto t = Clock::now();
+    for (std::size_t i = 0; i < p.updates; ++i) tree.updateNode(keys[i], s.updates[i].delta);
+    return secondsSince(t);
+}
+
+struct PipelineInputs {
+    const sfbench::ScenarioLog& log;
+    const MapperConfig& cfg;
+    const FlsModel& fls_model;
+    const PsModel& ps_model;
+};
+
+FlsFrame frameOf(const sfbench::FlsMessage& m) {
+    FlsFrame f;
+    f.utime = m.utime;
+    f.rows = m.rows;
+    f.cols = m.cols;
+    f.data = m.data.data();
+    f.data_size = m.data.size();
+    return f;
+}
+
+double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, const Prefix& p, VoxelMap& map,
+                           FlsUpdater& fls, const PsCarver& carver) {
+    map.initialiseAt(s.map_centre);
+    const auto t = Clock::now();
+    for (std::size_t i = 0; i < p.messages; ++i) {
+        const MessageRecord& m = s.messages[i];
+        if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
+        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map);
+    }
+    return secondsSince(t);
+}
+
+// OctoMap the way its users feed it: candidate points through coordToKey with
+// a per-scan key set (as insertPointCloud dedupes), carving rays through
+// computeRayKeys with Eq. 13's weight from each voxel centre's distance.
+double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Prefix& p, const GridKeys& grid,
+                      octomap::OcTree& tree) {
+    const UpdateConfig& u = in.cfg.update;
+    const float fls_increment = static_cast<float>(logOddsFromProbability(u.p_occupied) * u.alpha_fls);
+    const float free_increment = static_cast<float>(logOddsFromProbability(u.p_free));
+    const float hit_increment = static_cast<float>(logOddsFromProbability(u.p_occupied));
+    const double alpha = u.alpha_ps;
+    const Eigen::Vector3d shift = s.map_origin;
+    std::vector<Eigen::Vector3d> world_dir(in.fls_model.directions().size());
+    std::unordered_map<octomap::OcTreeKey, uint8_t, octomap::OcTreeKey::KeyHash> scan;
+    octomap::KeyRay ray;
+    const int nv = in.fls_model.elevationSamples();
+    const auto t = Clock::now();
+    for (std::size_t i = 0; i < p.messages; ++i) {
+        const MessageRecord& m = s.messages[i];
+        if (m.kind == MessageRecord::Fls) {
+            const sfbench::FlsMessage& f = in.log.fls[m.source];
+            for (std::size_t d = 0; d < world_dir.size(); ++d)
+                world_dir[d] = m.world_from_sensor.linear() * in.fls_model.directions()[d].cast<double>();
+            const Eigen::Vector3d sensor = m.world_from_sensor.translation() - shift;
+            scan.clear();
+            for (int row = 0; row < f.rows; ++row) {
+                const double range = in.fls_model.rangeOfRow(row);
+                for (int col = 0; col < f.cols; ++col) {
+                    const uint8_t intensity = f.data[static_cast<std::size_t>(row) * f.cols + col];
+                    if (intensity <= u.fls_intensity_threshold) continue;
+                    for (int k = 0; k < nv; ++k) {
+                        const Eigen::Vector3d q = sensor + range * world_dir[static_cast<std::size_t>(col) * nv + k];
+                        octomap::OcTreeKey key;
+                        if (!tree.coordToKeyChecked(octomap::point3d(float(q.x()), float(q.y()), float(q.z())), key) ||
+                            !grid.inGrid(key))
+                            continue;
+                        if (!u.fls_once_per_frame) {
+                            tree.updateNode(key, fls_increment * intensity / 255.0f);
+                            continue;
+                        }
+                        auto [it, fresh] = scan.emplace(key, intensity);
+                        if (!fresh && it->second < intensity) it->second = intensity;
+                    }
+                }
+            }
+            for (const auto& [key, intensity] : scan) tree.updateNode(key, fls_increment * intensity / 255.0f);
+        } else {
+            for (uint32_t r = m.ray_begin; r < m.ray_end; ++r) {
+                const Eigen::Vector3d a = s.rays[r].origin - shift, b = s.rays[r].end - shift;
+                const octomap::point3d oa(float(a.x()), float(a.y()), float(a.z())), ob(float(b.x()), float(b.y()), float(b.z()));
+                const double range = (b - a).norm();
+                if (!tree.computeRayKeys(oa, ob, ray)) continue;
+                for (const octomap::OcTreeKey& key : ray) {
+                    if (!grid.inGrid(key)) continue;
+                    const double dist = (tree.keyToCoord(key) - oa).norm();
+                    tree.updateNode(key, free_increment * static_cast<float>(std::exp(-alpha * dist / range)));
+                }
+                octomap::OcTreeKey end_key;
+                if (u.ps_endpoint_hits && tree.coordToKeyChecked(ob, end_key) && grid.inGrid(end_key))
+                    tree.updateNode(end_key, hit_increment);
+            }
+        }
+    }
+    return secondsSince(t);
+}
+
+// --- report helpers ----------------------------------------------------------
+
+struct Row {
+    const char* name;
+    const char* what;
+    std::size_t updates;
+    double best = INFINITY;
+    bool ran = false;
+};
+
+void printRow(const Row& r, double reference) {
+    if (!r.ran) return;
+    std::printf("| %-22s | %-58s | %10zu | %9.2f | %8.1f | %7.2f |\n", r.name, r.what, r.updates, r.best * 1e3,
+                r.updates / r.best / 1e6, r.best / reference);
+}
+
+std::string verdict(bool met) { return met ? "MET" : "MISSED"; }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"sf-map-bench: voxel update stream vs OctoMap and the memory floor, mapper latency"};
+    std::string log_path, config_path = std::string(SF_SOURCE_DIR) + "/scenarios/mapper.yaml", variant;
+    int reps = 5, latency_runs = 3;
+    double fraction = 1.0, user_min_jaccard = 0.9;
+    bool skip_latency = false, require_faster = false;
+    std::vector<std::string> only;
+    app.add_option("--log", log_path, "LCM log written by sf-sim")->required()->check(CLI::ExistingFile);
+    app.add_option("--config", config_path, "mapper YAML config")->check(CLI::ExistingFile);
+    app.add_option("--variant", variant, "fls_only, carve_only, paper or fused (default: the config's)");
+    app.add_option("--reps", reps, "repetitions of each stream; the best time counts")->check(CLI::PositiveNumber);
+    app.add_option("--fraction", fraction, "replay this leading fraction of the map-changing messages")
+        ->check(CLI::Range(1e-6, 1.0));
+    app.add_option("--latency-runs", latency_runs, "mapper replays for latency (per-message minimum)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--user-min-jaccard", user_min_jaccard,
+                   "tolerance: OctoMap computeRayKeys row's occupied set vs ours (intersection over union)");
+    app.add_option("--only", only, "run only these parts: voxelmap floor octomap pipeline octomap_user latency");
+    app.add_flag("--skip-latency", skip_latency, "no per-message latency section");
+    app.add_flag("--require-faster", require_faster, "exit 1 unless our stream beats OctoMap's in this run");
+    CLI11_PARSE(app, argc, argv);
+    const std::set<std::string> parts(only.begin(), only.end());
+    auto enabled = [&](const char* part) { return parts.empty() || parts.count(part) > 0; };
+
+    DaemonConfig dcfg;
+    sfbench::ScenarioLog log;
+    sfbench::Recording rec;
+    try {
+        dcfg = loadDaemonConfig(config_path);
+        if (!variant.empty()) {
+            const auto v = parseVariant(variant);
+            if (!v) throw std::runtime_error("--variant must be fls_only, carve_only, paper or fused");
+            dcfg.variant = variant;
+            applyVariant(*v, dcfg.mapper);
+        }
+        log = sfbench::loadScenarioLog(log_path, dcfg);
+        rec = sfbench::recordUpdateStream(log, dcfg.mapper);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sf-map-bench: %s\n", e.what());
+        return 2;
+    }
+    const MapperConfig& cfg = dcfg.mapper;
+    const UpdateStream& s = rec.stream;
+    const Prefix p = prefixOf(s, fraction);
+    std::printf("log %s: %zu NAV, %zu FLS, %zu PS; variant %s\n", log_path.c_str(), log.nav.size(), log.fls.size(),
+                log.ps.size(), dcfg.variant.c_str());
+    std::printf("recorded stream (bit-exact with the Mapper): %d FLS frames, %d PS pings, %zu rays, %zu updates "
+                "(%zu FLS, %zu PS)\n",
+                s.fls_frames, s.ps_pings, s.rays.size(), s.updates.size(), s.fls_updates, s.ps_updates);
+    std::printf("replayed: %zu messages (%.0f%%), %zu updates (%zu FLS, %zu PS), best of %d\n\n", p.messages,
+                100.0 * fraction, p.updates, p.fls_updates, p.ps_updates, reps);
+
+    int failures = 0;
+    VoxelMap map(cfg.map);
+    map.initialiseAt(s.map_centre);
+    const float threshold = static_cast<float>(logOddsFromProbability(cfg.segmentation.occupied_probability));
+    const FlsModel fls_model(cfg.fls);
+    const PsModel ps_model(cfg.ps);
+    FlsUpdater fls_updater(fls_model, cfg.update, map);
+    const PsCarver ps_carver(ps_model, cfg.update);
+    const PipelineInputs inputs{log, cfg, fls_model, ps_model};
+    std::vector<float> floor_cells(map.size());
+
+    // Keys for the identical-update row, through each voxel centre's coordinates.
+    auto key_tree = makeOcTree(map);
+    const GridKeys grid{map, *key_tree};
+    std::vector<octomap::OcTreeKey> keys(p.updates);
+    for (std::size_t i = 0; i < p.updates; ++i) {
+        keys[i] = grid.keyOf(s.updates[i].voxel);
+        const VoxelIndex v = map.fromLinear(s.updates[i].voxel);
+        if (keys[i][0] != v.x + 32768 || keys[i][1] != v.y + 32768 || keys[i][2] != v.z + 32768) {
+            std::fprintf(stderr, "FAIL: OcTree key of voxel %u is not aligned with our grid\n", s.updates[i].voxel);
+            return 1;
+        }
+    }
+    std::printf("OctoMap clamping: %.9g .. %.9g log-odds (ours %.9g .. %.9g)\n", key_tree->getClampingThresMinLog(),
+                key_tree->getClampingThresMaxLog(), map.clampMin(), map.clampMax());
+
+    Row voxelmap{"voxelmap_stream", "(a) VoxelMap::add + setFlag, recorded stream", p.updates};
+    Row octo{"octomap_stream", "(b) OcTree::updateNode(key, same log-odds)", p.updates};
+    Row floor_row{"memory_floor", "(c) float array += at the same indices, no math", p.updates};
+    Row pipeline{"voxelmap_pipeline", "FlsUpdater::apply + PsCarver::apply (geometry + walk)", p.updates};
+    Row octo_user{"octomap_user", "OctoMap as users call it: coordToKey + computeRayKeys", p.updates};
+    std::unique_ptr<octomap::OcTree> octo_tree, user_tree;
+    std::size_t octo_memory = 0;
+    // Rows interleaved per repetition, so machine noise hits them alike.
+    for (int r = 0; r < reps; ++r) {
+        if (enabled("voxelmap")) voxelmap.best = std::min(voxelmap.best, runVoxelMapStream(s, p, map)), voxelmap.ran = true;
+        if (enabled("floor")) floor_row.best = std::min(floor_row.best, runFloor(s, p, floor_cells)), floor_row.ran = true;
+        if (enabled("octomap")) {
+            octo_tree = makeOcTree(map);
+            octo.best = std::min(octo.best, runOctomapStream(s, p, keys, *octo_tree));
+            octo.ran = true;
+        }
+        if (enabled("pipeline")) {
+            pipeline.best = std::min(pipeline.best, runVoxelMapPipeline(inputs, s, p, map, fls_updater, ps_carver));
+            pipeline.ran = true;
+        }
+        if (enabled("octomap_user")) {
+            user_tree = makeOcTree(map);
+            octo_user.best = std::min(octo_user.best, runOctomapUser(inputs, s, p, grid, *user_tree));
+            octo_user.ran = true;
+        }
+    }
+    if (octo_tree) octo_memory = octo_tree->memoryUsage();
+
+    // Same input, same answer.
+    VoxelMap expected(cfg.map);
+    expected.initialiseAt(s.map_centre);
+    sfbench::replayStream(s, p.updates, expected);
+    if (pipeline.ran && std::memcmp(map.logOddsData().data(), expected.logOddsData().data(), map.size() * sizeof(float)) != 0) {
+        std::fprintf(stderr, "FAIL: FlsUpdater+PsCarver map differs from the recorded stream's\n");
+        ++failures;
+    }
+    if (octo_tree) {
+        const OccupancyCompare c = compareOccupied(expected, *octo_tree, grid, threshold);
+        std::printf("identical updates: occupied voxels ours %zu, OctoMap %zu, differing %zu\n", c.ours, c.theirs, c.differ);
+        if (c.differ != 0) {
+            std::fprintf(stderr, "FAIL: OctoMap fed the identical updates gives a different occupied set\n");
+            ++failures;
+        }
+    }
+    if (user_tree) {
+        const OccupancyCompare c = compareOccupied(expected, *user_tree, grid, threshold);
+        std::printf("OctoMap user-style: occupied ours %zu, OctoMap %zu, both %zu, intersection/union %.3f "
+                    "(tolerance >= %.2f)\n",
+                    c.ours, c.theirs, c.both, c.jaccard(), user_min_jaccard);
+        if (c.jaccard() < user_min_jaccard) {
+            std::fprintf(stderr, "FAIL: OctoMap user-style occupied set outside the tolerance\n");
+            ++failures;
+        }
+    }
+
+    const double ref = voxelmap.ran ? voxelmap.best : 1.0;
+    std::printf("\n| stream | what | updates | best ms | Mupd/s | time / (a) |\n|---|---|---:|---:|---:|---:|\n");
+    for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user}) printRow(*r, ref);
+    std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags) + FlsUpdater slots %.1f MB; OcTree %.1f MB\n",
+                map.size() * 5.0 / 1e6, map.size() * 4.0 / 1e6, octo_memory / 1e6);
+    if (voxelmap.ran && octo.ran) {
+        const double speedup = octo.best / voxelmap.best;
+        std::printf("ratio (a/b): ours is %.1fx faster than OctoMap on the identical stream  [target >= 20x: %s]\n",
+                    speedup, verdict(speedup >= 20.0).c_str());
+        if (require_faster && !(speedup > 1.0)) {
+            std::fprintf(stderr, "FAIL: our stream is not faster than OctoMap in this run\n");
+            ++failures;
+        }
+    }
+    if (voxelmap.ran && floor_row.ran) {
+        const double over = voxelmap.best / floor_row.best;
+        std::printf("ratio (a/c): ours takes %.2fx the memory floor  [target <= 3x: %s]\n", over,
+                    verdict(over <= 3.0).c_str());
+    }
+    if (pipeline.ran && octo_user.ran)
+        std::printf("pipeline: ours is %.1fx faster than OctoMap as its users call it\n", octo_user.best / pipeline.best);
+
+    if (skip_latency || !enabled("latency")) return failures ? 1 : 0;
+
+    // --- per-message latency of the whole Mapper (pose lookup, selection, update) ---
+    // Each message's time is its minimum over the replays: the cost of the
+    // message itself, not of whatever else the shared machine was doing.
+    const std::size_t n_events = log.order.size();
+    std::vector<double> best_us(n_events, INFINITY);
+    std::vector<int> kind(n_events, -1);  // 0 FLS mapping, 1 PS carving, 2 PS before the map
+    std::vector<double> segment_ms;
+    std::unique_ptr<Mapper> mapper;
+    for (int run = 0; run < latency_runs; ++run) {
+        mapper = std::make_unique<Mapper>(cfg);
+        int mapping_messages = 0;
+        for (std::size_t e = 0; e < n_events; ++e) {
+            const auto& ev = log.order[e];
+            if (ev.kind == sfbench::ScenarioLog::Event::Nav) {
+                sfbench::feedEvent(log, ev, *mapper);
+                continue;
+            }
+            const bool mapping = mapper->map().initialised();
+            const auto t = Clock::now();
+            const Outcome o = sfbench::feedEvent(log, ev, *mapper);
+            const double us = secondsSince(t) * 1e6;
+            if (o != Outcome::Used) continue;
+            kind[e] = ev.kind == sfbench::ScenarioLog::Event::Fls ? 0 : (mapping ? 1 : 2);
+            best_us[e] = std::min(best_us[e], us);
+            // Segmentation over the full map, every 200 mapping messages of the scenario.
+            if (run == 0 && mapping && ++mapping_messages % 200 == 0) {
+                const auto ts = Clock::now();
+                mapper->segment();
+                segment_ms.push_back(secondsSince(ts) * 1e3);
+            }
+        }
+    }
+    for (int i = 0; i < 20; ++i) {  // and on the final map
+        const auto ts = Clock::now();
+        mapper->segment();
+        segment_ms.push_back(secondsSince(ts) * 1e3);
+    }
+    std::vector<double> fls_us, ps_us, detect_us;
+    for (std::size_t e = 0; e < n_events; ++e) {
+        if (kind[e] == 0) fls_us.push_back(best_us[e]);
+        else if (kind[e] == 1) ps_us.push_back(best_us[e]);
+        else if (kind[e] == 2) detect_us.push_back(best_us[e]);
+    }
+    // Worst case: every pixel passes the threshold, at the scenario's own FLS poses.
+    std::vector<double> worst_us;
+    std::vector<uint8_t> bright(static_cast<std::size_t>(cfg.fls.rows) * cfg.fls.beams, 255);
+    for (std::size_t i = 0; i < s.messages.size(); ++i) {
+        const MessageRecord& m = s.messages[i];
+        if (m.kind != MessageRecord::Fls || (i % 20) != 0) continue;
+        FlsFrame f = frameOf(log.fls[m.source]);
+        f.data = bright.data();
+        f.data_size = bright.size();
+        double best = INFINITY;
+        for (int r = 0; r < 3; ++r) {
+            const auto t = Clock::now();
+            if (mapper->addFls(f) != Outcome::Used) break;
+            best = std::min(best, secondsSince(t) * 1e6);
+        }
+        if (std::isfinite(best)) worst_us.push_back(best);
+    }
+    auto line = [](const char* what, const std::vector<double>& v, const char* unit, double scale) {
+        std::printf("| %-44s | %5zu | %9.3f | %9.3f | %9.3f |\n", what, v.size(), percentile(v, 0.5) * scale,
+                    percentile(v, 0.99) * scale, v.empty() ? NAN : *std::max_element(v.begin(), v.end()) * scale);
+        (void)unit;
+    };
+    std::printf("\n| mapper latency (one core) | n | p50 ms | p99 ms | max ms |\n|---|---:|---:|---:|---:|\n");
+    line("FLS frame, scenario (Mapper::addFls)", fls_us, "ms", 1e-3);
+    line("FLS frame, worst case: every pixel 255", worst_us, "ms", 1e-3);
+    line("PS ping, carving (Mapper::addPs)", ps_us, "ms", 1e-3);
+    line("PS ping, before the map (detector)", detect_us, "ms", 1e-3);
+    line("segmentation of the full map (Mapper::segment)", segment_ms, "ms", 1.0);
+    const double fls_p99 = percentile(fls_us, 0.99) * 1e-3, worst_max = worst_us.empty() ? NAN : *std::max_element(worst_us.begin(), worst_us.end()) * 1e-3;
+    const double seg_p99 = percentile(segment_ms, 0.99);
+    std::printf("\ntargets: typical FLS frame < 0.5 ms (p99 %.3f ms): %s; worst-case FLS frame < 5 ms (max %.3f ms): %s; "
+                "segmentation < 20 ms (p99 %.3f ms): %s\n",
+                fls_p99, verdict(fls_p99 < 0.5).c_str(), worst_max, verdict(worst_max < 5.0).c_str(), seg_p99,
+                verdict(seg_p99 < 20.0).c_str());
+    return failures ? 1 : 0;
+}

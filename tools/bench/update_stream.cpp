@@ -1,0 +1,291 @@
+#include "update_stream.hpp"
+
+#include <lcm/lcm-cpp.hpp>
+#include <sonarfusion/fls_image_t.hpp>
+#include <sonarfusion/nav_state_t.hpp>
+#include <sonarfusion/ps_ping_t.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "sonarfusion/voxel_walk.hpp"
+
+namespace sfbench {
+
+using namespace sonarfusion;
+
+ScenarioLog loadScenarioLog(const std::string& path, const DaemonConfig& cfg) {
+    lcm::LogFile file(path, "r");
+    if (!file.good()) throw std::runtime_error("cannot read LCM log " + path);
+    ScenarioLog log;
+    nav_state_t nav;
+    fls_image_t fls;
+    ps_ping_t ps;
+    while (const lcm::LogEvent* ev = file.readNextEvent()) {
+        const int len = static_cast<int>(ev->datalen);
+        if (ev->channel == cfg.nav_channel) {
+            if (nav.decode(ev->data, 0, len) < 0) throw std::runtime_error(path + ": bad NAV message");
+            TimedPose p;
+            p.utime = nav.utime;
+            p.pose.position = Eigen::Vector3d(nav.position_ned[0], nav.position_ned[1], nav.position_ned[2]);
+            p.pose.roll = nav.rpy[0];
+            p.pose.pitch = nav.rpy[1];
+            p.pose.yaw = nav.rpy[2];
+            log.nav.push_back(p);
+        } else if (ev->channel == cfg.fls_channel) {
+            if (fls.decode(ev->data, 0, len) < 0) throw std::runtime_error(path + ": bad FLS message");
+            FlsMessage m;
+            m.utime = fls.utime;
+            m.seq = fls.seq;
+            m.rows = fls.num_ranges;
+            m.cols = fls.num_beams;
+            m.data.assign(fls.data.begin(), fls.data.end());
+            m.size_ok = static_cast<int64_t>(fls.data_size) == static_cast<int64_t>(fls.num_ranges) * fls.num_beams;
+            log.fls.push_back(std::move(m));
+        } else if (ev->channel == cfg.ps_channel) {
+            if (ps.decode(ev->data, 0, len) < 0) throw std::runtime_error(path + ": bad PS message");
+            PsMessage m;
+            m.utime = ps.utime;
+            m.seq = ps.seq;
+            m.head_angle = ps.head_angle;
+            m.range_min = ps.range_min;
+            m.range_max = ps.range_max;
+            m.intensity.assign(ps.intensity.begin(), ps.intensity.end());
+            log.ps.push_back(std::move(m));
+        }
+    }
+
+    // Sonar in the daemon's order: utime, PS before FLS at equal utime, then seq.
+    struct Key {
+        int64_t utime;
+        int kind;  // 0 PS, 1 FLS
+        int64_t seq;
+        uint32_t index;
+    };
+    std::vector<Key> sonar;
+    for (uint32_t i = 0; i < log.ps.size(); ++i) sonar.push_back({log.ps[i].utime, 0, log.ps[i].seq, i});
+    for (uint32_t i = 0; i < log.fls.size(); ++i) sonar.push_back({log.fls[i].utime, 1, log.fls[i].seq, i});
+    std::stable_sort(sonar.begin(), sonar.end(), [](const Key& a, const Key& b) {
+        if (a.utime != b.utime) return a.utime < b.utime;
+        if (a.kind != b.kind) return a.kind < b.kind;
+        return a.seq < b.seq;
+    });
+    auto emitSonar = [&](const Key& k) {
+        log.order.push_back({k.kind == 0 ? ScenarioLog::Event::Ps : ScenarioLog::Event::Fls, k.index});
+    };
+    std::size_t next = 0;
+    int64_t newest_nav = INT64_MIN;
+    for (uint32_t i = 0; i < log.nav.size(); ++i) {
+        log.order.push_back({ScenarioLog::Event::Nav, i});
+        if (log.nav[i].pose.isFinite() && log.nav[i].utime > newest_nav) newest_nav = log.nav[i].utime;
+        while (next < sonar.size() && sonar[next].utime < newest_nav) emitSonar(sonar[next++]);
+    }
+    while (next < sonar.size()) emitSonar(sonar[next++]);  // the daemon's final flush(true)
+    return log;
+}
+
+Outcome feedEvent(const ScenarioLog& log, const ScenarioLog::Event& ev, Mapper& mapper) {
+    switch (ev.kind) {
+        case ScenarioLog::Event::Nav: return mapper.addNav(log.nav[ev.index]);
+        case ScenarioLog::Event::Fls: {
+            const FlsMessage& m = log.fls[ev.index];
+            FlsFrame f;
+            f.utime = m.utime;
+            f.rows = m.rows;
+            f.cols = m.cols;
+            f.data = m.data.data();
+            f.data_size = m.size_ok ? m.data.size() : 0;
+            return mapper.addFls(f);
+        }
+        case ScenarioLog::Event::Ps: {
+            const PsMessage& m = log.ps[ev.index];
+            PsPing p;
+            p.utime = m.utime;
+            p.head_angle = m.head_angle;
+            p.range_min = m.range_min;
+            p.range_max = m.range_max;
+            p.bins = static_cast<int>(m.intensity.size());
+            p.intensity = m.intensity.data();
+            return mapper.addPs(p);
+        }
+    }
+    return Outcome::NoPose;
+}
+
+namespace {
+
+// Rebuilds FlsUpdater::apply's updates, in its order and with its float
+// arithmetic, from the public FlsModel tables (libfusion stays untouched).
+class FlsRecorder {
+public:
+    FlsRecorder(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map)
+        : model_(model), cfg_(cfg),
+          increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
+          world_direction_(model.directions().size()), slot_(map.size(), 0u) {}
+
+    void record(const FlsMessage& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
+                UpdateStream& out) {
+        const Eigen::Matrix3f rot = world_from_sensor.linear().cast<float>();
+        for (std::size_t i = 0; i < world_direction_.size(); ++i) world_direction_[i] = rot * model_.directions()[i];
+        const float inv_res = static_cast<float>(1.0 / map.resolution());
+        const Eigen::Vector3f sensor =
+            ((world_from_sensor.translation() - map.origin()) / map.resolution()).cast<float>();
+        const int nx = map.nx(), ny = map.ny(), nz = map.nz();
+        const int nv = model_.elevationSamples();
+        touched_.clear();
+        strongest_.clear();
+        for (int row = 0; row < frame.rows; ++row) {
+            const uint8_t* line = frame.data.data() + static_cast<std::size_t>(row) * frame.cols;
+            const float range = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
+            for (int col = 0; col < frame.cols; ++col) {
+                const uint8_t intensity = line[col];
+                if (intensity <= cfg_.fls_intensity_threshold) continue;
+                const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * nv];
+                for (int k = 0; k < nv; ++k) {
+                    const Eigen::Vector3f p = sensor + range * dir[k];
+                    const float fx = std::floor(p.x()), fy = std::floor(p.y()), fz = std::floor(p.z());
+                    if (!(fx >= 0.0f && fy >= 0.0f && fz >= 0.0f && fx < nx && fy < ny && fz < nz)) continue;
+                    const std::size_t v = (static_cast<std::size_t>(fz) * ny + static_cast<std::size_t>(fy)) * nx +
+                                          static_cast<std::size_t>(fx);
+                    if (!cfg_.fls_once_per_frame) {
+                        push(out, v, increment_ * intensity / 255.0f);
+                        continue;
+                    }
+                    uint32_t& s = slot_[v];
+                    if (s == 0) {
+                        touched_.push_back(static_cast<uint32_t>(v));
+                        strongest_.push_back(intensity);
+                        s = static_cast<uint32_t>(touched_.size());
+                    } else if (strongest_[s - 1] < intensity) {
+                        strongest_[s - 1] = intensity;
+                    }
+                }
+            }
+        }
+        for (std::size_t i = 0; i < touched_.size(); ++i) {
+            push(out, touched_[i], increment_ * strongest_[i] / 255.0f);
+            slot_[touched_[i]] = 0;
+        }
+    }
+
+private:
+    static void push(UpdateStream& out, std::size_t v, float delta) {
+        out.updates.push_back({static_cast<uint32_t>(v), delta});
+        out.update_flag.push_back(VoxelMap::kFlsTouched);
+        ++out.fls_updates;
+    }
+
+    const FlsModel& model_;
+    UpdateConfig cfg_;
+    float increment_;
+    std::vector<Eigen::Vector3f> world_direction_;
+    std::vector<uint32_t> slot_;
+    std::vector<uint32_t> touched_;
+    std::vector<uint8_t> strongest_;
+};
+
+// Rebuilds PsCarver::apply's updates with walkSegment (Eqs. 12-13).
+void recordPs(const PsModel& model, const UpdateConfig& cfg, double head_angle, double range,
+              const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map, UpdateStream& out) {
+    const float free_increment = static_cast<float>(logOddsFromProbability(cfg.p_free));
+    const float hit_increment = static_cast<float>(logOddsFromProbability(cfg.p_occupied));
+    const float alpha = static_cast<float>(cfg.alpha_ps);
+    const Eigen::Vector3d origin = world_from_sensor.translation();
+    for (int k = 0; k < model.fanSamples(); ++k) {
+        const Eigen::Vector3d end = origin + world_from_sensor.linear() * (range * model.direction(head_angle, k));
+        CarvingRay ray{origin, end, static_cast<uint32_t>(out.updates.size()), 0};
+        const WalkResult w = walkSegment(map, origin, end, [&](std::size_t v, double t) {
+            out.updates.push_back({static_cast<uint32_t>(v), free_increment * std::exp(-alpha * static_cast<float>(t))});
+            out.update_flag.push_back(VoxelMap::kPsObserved);
+        });
+        // The echo voxel only gets a flag (kept out of the stream), or a hit in carve_only.
+        if (w.end_in_map && cfg.ps_endpoint_hits) {
+            out.updates.push_back({static_cast<uint32_t>(w.end_voxel), hit_increment});
+            out.update_flag.push_back(VoxelMap::kPsObserved);
+        }
+        ray.end_update = static_cast<uint32_t>(out.updates.size());
+        out.ps_updates += ray.end_update - ray.begin;
+        out.rays.push_back(ray);
+    }
+}
+
+}  // namespace
+
+void replayStream(const UpdateStream& stream, std::size_t count, VoxelMap& map) {
+    for (std::size_t i = 0; i < count; ++i) {
+        map.add(stream.updates[i].voxel, stream.updates[i].delta);
+        map.setFlag(stream.updates[i].voxel, stream.update_flag[i]);
+    }
+}
+
+Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
+    Recording rec;
+    UpdateStream& s = rec.stream;
+    Mapper mapper(cfg);
+    NavBuffer nav(cfg.nav_buffer_capacity, cfg.max_nav_gap_us);
+    FlsRecorder fls_recorder(mapper.flsModel(), cfg.update, mapper.map());
+
+    for (const ScenarioLog::Event& ev : log.order) {
+        if (ev.kind == ScenarioLog::Event::Nav) {
+            nav.add(log.nav[ev.index]);
+            feedEvent(log, ev, mapper);
+            continue;
+        }
+        const bool mapping = mapper.map().initialised();
+        const Outcome outcome = feedEvent(log, ev, mapper);
+        if (!mapping || outcome != Outcome::Used) continue;
+        MessageRecord m{};
+        m.source = ev.index;
+        m.begin = static_cast<uint32_t>(s.updates.size());
+        Pose pose;
+        if (ev.kind == ScenarioLog::Event::Fls) {
+            const FlsMessage& f = log.fls[ev.index];
+            if (nav.poseAt(f.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used FLS frame");
+            m.kind = MessageRecord::Fls;
+            m.world_from_sensor = sensorToWorld(pose, cfg.fls_mount);
+            fls_recorder.record(f, m.world_from_sensor, mapper.map(), s);
+            ++s.fls_frames;
+        } else {
+            if (!cfg.update.ps_carving_enabled) continue;
+            const PsMessage& p = log.ps[ev.index];
+            PsPing ping;
+            ping.head_angle = p.head_angle;
+            ping.range_min = p.range_min;
+            ping.range_max = p.range_max;
+            ping.bins = static_cast<int>(p.intensity.size());
+            ping.intensity = p.intensity.data();
+            const std::optional<int> bin = selectClosestGroup(ping, cfg.ps_selection);
+            if (nav.poseAt(p.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used PS ping");
+            m.kind = MessageRecord::Ps;
+            m.world_from_sensor = sensorToWorld(pose, cfg.ps_mount);
+            m.head_angle = p.head_angle;
+            m.range = rangeOfBin(ping, *bin);  // Used implies a bin was selected
+            m.ray_begin = static_cast<uint32_t>(s.rays.size());
+            recordPs(mapper.psModel(), cfg.update, m.head_angle, m.range, m.world_from_sensor, mapper.map(), s);
+            m.ray_end = static_cast<uint32_t>(s.rays.size());
+            ++s.ps_pings;
+        }
+        m.end = static_cast<uint32_t>(s.updates.size());
+        s.messages.push_back(m);
+    }
+    if (!mapper.map().initialised() || !mapper.detector().detection())
+        throw std::runtime_error("the mapper never initialised its map (no object detected): no update stream");
+    s.map_origin = mapper.map().origin();
+    s.map_centre = *mapper.detector().detection();
+    rec.counters = mapper.counters();
+    rec.reference_log_odds = mapper.map().logOddsData();
+
+    // The recording is only worth timing if it is the Mapper's stream, exactly.
+    VoxelMap replay(cfg.map);
+    replay.initialiseAt(s.map_centre);
+    if (replay.origin() != s.map_origin) throw std::runtime_error("replay map origin differs from the Mapper's");
+    replayStream(s, s.updates.size(), replay);
+    if (std::memcmp(replay.logOddsData().data(), rec.reference_log_odds.data(),
+                    rec.reference_log_odds.size() * sizeof(float)) != 0)
+        throw std::runtime_error("recorded update stream does not reproduce the Mapper's map bit for bit");
+    return rec;
+}
+
+}  // namespace sfbench
