@@ -32,6 +32,18 @@ void writeOutputs(MapperNode& node, const std::string& map_out) {
     spdlog::info("map written to {} (+ .ply)", map_out);
 }
 
+// Peak resident memory of this process (VmHWM), kB; -1 where /proc is missing.
+long peakRssKb() {
+    FILE* f = std::fopen("/proc/self/status", "r");
+    if (!f) return -1;
+    char line[256];
+    long kb = -1;
+    while (std::fgets(line, sizeof(line), f))
+        if (std::sscanf(line, "VmHWM: %ld kB", &kb) == 1) break;
+    std::fclose(f);
+    return kb;
+}
+
 // The final MAPPER_STATUS as JSON, for scripts (tools/mission merges it into report.json).
 void writeStatusJson(const MapperNode& node, const std::string& path) {
     const mapper_status_t s = node.status();
@@ -51,7 +63,8 @@ void writeStatusJson(const MapperNode& node, const std::string& path) {
     std::fprintf(f, "  \"rejected\": {");
     for (int i = 0; i < s.num_reasons; ++i)
         std::fprintf(f, "%s\"%s\": %lld", i ? ", " : "", s.reason_name[i].c_str(), static_cast<long long>(s.reason_count[i]));
-    std::fprintf(f, "},\n  \"objects\": %zu\n}\n", node.mapper().segmenter().objects().size());
+    std::fprintf(f, "},\n  \"objects\": %zu, \"peak_rss_kb\": %ld\n}\n", node.mapper().segmenter().objects().size(),
+                 peakRssKb());
     const bool ok = std::fclose(f) == 0;
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write " + path);
 }
