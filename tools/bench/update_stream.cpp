@@ -214,9 +214,13 @@ void recordPs(const PsModel& model, const UpdateConfig& cfg, double head_angle, 
 }  // namespace
 
 void replayStream(const UpdateStream& stream, std::size_t count, VoxelMap& map) {
+    // Local pointers: the flag store is a char store, which may alias anything,
+    // so reading through the vectors would reload their data pointers every update.
+    const VoxelUpdate* u = stream.updates.data();
+    const uint8_t* flag = stream.update_flag.data();
     for (std::size_t i = 0; i < count; ++i) {
-        map.add(stream.updates[i].voxel, stream.updates[i].delta);
-        map.setFlag(stream.updates[i].voxel, stream.update_flag[i]);
+        map.add(u[i].voxel, u[i].delta);
+        map.setFlag(u[i].voxel, flag[i]);
     }
 }
 
