@@ -489,14 +489,19 @@ int main(int argc, char** argv) {
     std::unique_ptr<octomap::OcTree> octo_tree, user_tree;
     std::size_t octo_memory = 0;
     // Rows interleaved per repetition, so machine noise hits them alike.
+    // The array rows take milliseconds, less than a scheduler slice on a shared
+    // machine, so each repetition runs them several times; the best one counts.
+    constexpr int kShortRowPasses = 10;
     for (int r = 0; r < reps; ++r) {
-        if (enabled("voxelmap")) voxelmap.best = std::min(voxelmap.best, runVoxelMapStream(s, p, map)), voxelmap.ran = true;
-        if (enabled("floor")) floor_row.best = std::min(floor_row.best, runFloor(s, p, floor_cells)), floor_row.ran = true;
-        if (enabled("diagnosis")) {
-            add_only.best = std::min(add_only.best, runVoxelMapAddOnly(s, p, map)), add_only.ran = true;
-            proposed.best = std::min(proposed.best, runProposedAdd(s, p, map.clampMin(), map.clampMax(),
-                                                                   proposed_log_odds, proposed_flags));
-            proposed.ran = true;
+        for (int pass = 0; pass < kShortRowPasses; ++pass) {
+            if (enabled("voxelmap")) voxelmap.best = std::min(voxelmap.best, runVoxelMapStream(s, p, map)), voxelmap.ran = true;
+            if (enabled("floor")) floor_row.best = std::min(floor_row.best, runFloor(s, p, floor_cells)), floor_row.ran = true;
+            if (enabled("diagnosis")) {
+                add_only.best = std::min(add_only.best, runVoxelMapAddOnly(s, p, map)), add_only.ran = true;
+                proposed.best = std::min(proposed.best, runProposedAdd(s, p, map.clampMin(), map.clampMax(),
+                                                                       proposed_log_odds, proposed_flags));
+                proposed.ran = true;
+            }
         }
         if (enabled("hotloops")) {
             fls_now.best = std::min(fls_now.best, runMessages(inputs, s, p, MessageRecord::Fls, fls_only_map, fls_updater, ps_carver));
@@ -619,16 +624,24 @@ int main(int argc, char** argv) {
             best_us[e] = std::min(best_us[e], us);
             // Segmentation over the full map, every 200 mapping messages of the scenario.
             if (run == 0 && mapping && ++mapping_messages % 200 == 0) {
-                const auto ts = Clock::now();
-                mapper->segment();
-                segment_ms.push_back(secondsSince(ts) * 1e3);
+                double best_ms = INFINITY;
+                for (int r = 0; r < 3; ++r) {  // the same map three times: its cost, not the neighbours'
+                    const auto ts = Clock::now();
+                    mapper->segment();
+                    best_ms = std::min(best_ms, secondsSince(ts) * 1e3);
+                }
+                segment_ms.push_back(best_ms);
             }
         }
     }
-    for (int i = 0; i < 20; ++i) {  // and on the final map
-        const auto ts = Clock::now();
-        mapper->segment();
-        segment_ms.push_back(secondsSince(ts) * 1e3);
+    for (int i = 0; i < 10; ++i) {  // and on the final map
+        double best_ms = INFINITY;
+        for (int r = 0; r < 3; ++r) {
+            const auto ts = Clock::now();
+            mapper->segment();
+            best_ms = std::min(best_ms, secondsSince(ts) * 1e3);
+        }
+        segment_ms.push_back(best_ms);
     }
     std::vector<double> fls_us, ps_us, detect_us;
     for (std::size_t e = 0; e < n_events; ++e) {
