@@ -45,8 +45,8 @@ long peakRssKb() {
 }
 
 // The final MAPPER_STATUS as JSON, for scripts (tools/mission merges it into report.json).
-void writeStatusJson(const MapperNode& node, const std::string& path) {
-    const mapper_status_t s = node.status();
+void writeStatusJson(MapperNode& node, const std::string& path) {
+    const mapper_status_t& s = node.status();
     const std::string tmp = path + ".tmp";
     FILE* f = std::fopen(tmp.c_str(), "w");
     if (!f) throw std::runtime_error("cannot write " + tmp);
@@ -69,8 +69,8 @@ void writeStatusJson(const MapperNode& node, const std::string& path) {
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write " + path);
 }
 
-void printSummary(const MapperNode& node) {
-    const mapper_status_t s = node.status();
+void printSummary(MapperNode& node) {
+    const mapper_status_t& s = node.status();
     std::printf("state %s  variant %s  nav %lld  fls %lld/%lld used  ps %lld/%lld used\n", s.state.c_str(),
                 s.variant.c_str(), static_cast<long long>(s.nav_in), static_cast<long long>(s.fls_used),
                 static_cast<long long>(s.fls_in), static_cast<long long>(s.ps_used), static_cast<long long>(s.ps_in));

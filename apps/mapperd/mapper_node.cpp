@@ -38,6 +38,18 @@ MapperNode::MapperNode(const DaemonConfig& cfg, Publisher out)
     }
     proc_us_.assign(kTimingRing, 0.0);
     scratch_.assign(kTimingRing, 0.0);
+
+    for (int i = 1; i < kOutcomeCount; ++i) status_msg_.reason_name.emplace_back(outcomeName(static_cast<Outcome>(i)));
+    for (const char* n : kTransportNames) status_msg_.reason_name.emplace_back(n);
+    status_msg_.num_reasons = static_cast<int32_t>(status_msg_.reason_name.size());
+    status_msg_.reason_count.assign(status_msg_.reason_name.size(), 0);
+    status_msg_.variant = variant_;
+    status_msg_.state.reserve(16);
+    objects_msg_.objects.reserve(m.segmentation.max_objects);
+    const std::size_t voxels = mapper_.map().size();
+    snapshot_msg_.index.reserve(voxels);
+    snapshot_msg_.log_odds.reserve(voxels);
+    snapshot_msg_.flags.reserve(voxels);
 }
 
 void MapperNode::trackSeq(int channel, int64_t seq) {
@@ -223,7 +235,10 @@ void MapperNode::maybePeriodic(int64_t utime) {
     if (due(last_status_utime_, cfg_.status_period_s)) publishStatus();
     if (mapper_.map().initialised() && due(last_segment_utime_, cfg_.segment_period_s)) segmentAndPublish();
     if (out_.map && mapper_.map().initialised() && due(last_map_utime_, cfg_.map_period_s)) {
-        map_snapshot_t snap;
+        map_snapshot_t& snap = snapshot_msg_;
+        snap.index.clear();
+        snap.log_odds.clear();
+        snap.flags.clear();
         snap.utime = utime;
         snap.seq = map_seq_++;
         const VoxelMap& vm = mapper_.map();
@@ -246,7 +261,8 @@ void MapperNode::segmentAndPublish() {
     if (!mapper_.map().initialised()) return;
     mapper_.segment();
     if (!out_.objects) return;
-    objects_t msg;
+    objects_t& msg = objects_msg_;
+    msg.objects.clear();
     msg.utime = newest_data_utime_;
     msg.seq = objects_seq_++;
     for (const ObjectInfo& o : mapper_.segmenter().objects()) {
@@ -266,12 +282,11 @@ void MapperNode::segmentAndPublish() {
     out_.objects(msg);
 }
 
-mapper_status_t MapperNode::status() const {
-    mapper_status_t s;
+const mapper_status_t& MapperNode::status() {
+    mapper_status_t& s = status_msg_;
     s.utime = newest_data_utime_;
     s.seq = status_seq_;
     s.state = mapper_.map().initialised() ? "mapping" : "idle";
-    s.variant = variant_;
     const VoxelMap& m = mapper_.map();
     for (int i = 0; i < 3; ++i) {
         s.map_origin[i] = m.origin()[i];
@@ -283,15 +298,10 @@ mapper_status_t MapperNode::status() const {
     s.ps_in = c.ps_in;
     s.fls_used = c.fls_used;
     s.ps_used = c.ps_used;
-    for (int i = 1; i < kOutcomeCount; ++i) {
-        s.reason_name.emplace_back(outcomeName(static_cast<Outcome>(i)));
-        s.reason_count.push_back(c.by_outcome[i]);
-    }
-    for (int i = 0; i < static_cast<int>(TransportReject::kCount); ++i) {
-        s.reason_name.emplace_back(kTransportNames[i]);
-        s.reason_count.push_back(rejects_[i]);
-    }
-    s.num_reasons = static_cast<int32_t>(s.reason_name.size());
+    // Names were filled at start-up in this same order.
+    std::size_t r = 0;
+    for (int i = 1; i < kOutcomeCount; ++i) s.reason_count[r++] = c.by_outcome[i];
+    for (int i = 0; i < static_cast<int>(TransportReject::kCount); ++i) s.reason_count[r++] = rejects_[i];
     s.nav_seq_gaps = gaps_[kNav];
     s.fls_seq_gaps = gaps_[kFls];
     s.ps_seq_gaps = gaps_[kPs];

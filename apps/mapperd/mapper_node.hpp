@@ -53,7 +53,8 @@ public:
     [[nodiscard]] int64_t transportRejects(TransportReject r) const { return rejects_[static_cast<int>(r)]; }
     [[nodiscard]] double p99Us() const;
     [[nodiscard]] double maxUs() const { return proc_max_us_; }
-    [[nodiscard]] mapper_status_t status() const;
+    // The status message, refreshed in place (no allocation after start-up).
+    [[nodiscard]] const mapper_status_t& status();
 
 private:
     struct PendingFls {
@@ -96,6 +97,10 @@ private:
     int64_t status_seq_ = 0, objects_seq_ = 0, map_seq_ = 0;
     int64_t last_status_utime_ = INT64_MIN, last_segment_utime_ = INT64_MIN, last_map_utime_ = INT64_MIN;
     int64_t newest_data_utime_ = 0;
+    // Outgoing messages, sized at start-up and refilled in place.
+    mapper_status_t status_msg_;
+    objects_t objects_msg_;
+    map_snapshot_t snapshot_msg_;
 };
 
 }  // namespace sonarfusion
