@@ -74,6 +74,7 @@ Outcome Mapper::addNav(const TimedPose& nav) {
         case NavBuffer::AddResult::OutOfOrder: return count(Outcome::NavOutOfOrder);
         case NavBuffer::AddResult::Ok: break;
     }
+    track_axis_.add(nav.pose.yaw);
     ++counters_.nav_used;
     return count(Outcome::Used);
 }
@@ -127,7 +128,10 @@ Outcome Mapper::addPs(const PsPing& ping) {
     return count(Outcome::Used);
 }
 
-const SegmentationStats& Mapper::segment() { return segmenter_.run(map_); }
+const SegmentationStats& Mapper::segment() {
+    segmenter_.setAlongTrack(track_axis_.axis());
+    return segmenter_.run(map_);
+}
 
 void Mapper::initialiseMapAt(const Eigen::Vector3d& centre) {
     map_.initialiseAt(centre);

@@ -27,6 +27,7 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
         if (w.end_in_map) {
             ++st.endpoints_in_map;
             map.setFlag(w.end_voxel, VoxelMap::kPsObserved);
+            map.addPsEcho(w.end_voxel);
             if (cfg_.ps_endpoint_hits) map.add(w.end_voxel, hit_increment_);
         } else {
             ++st.endpoints_outside_map;

@@ -19,6 +19,7 @@ Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation,
         throw std::invalid_argument("segmentation: max_objects, min_object_voxels, baseline_window must be positive");
     logodds_threshold_ = static_cast<float>(logOddsFromProbability(cfg.occupied_probability));
     occupied_.assign(map.size(), 0);
+    if (require_ps_ && cfg.ps_echo_radius >= 0) confirmed_.assign(map.size(), 0);
     label_.assign(map.size(), 0);
     queue_.assign(map.size(), 0);
     const std::size_t cols = static_cast<std::size_t>(nx_) * ny_;
@@ -56,6 +57,10 @@ void Segmenter::columnSurfaces(const VoxelMap& map) {
 // does not lift the seabed under itself.
 void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
     const int half = std::max(1, static_cast<int>(std::lround(0.5 * cfg_.baseline_window / map.resolution())));
+    if (cfg_.baseline_along_track && along_track_.squaredNorm() > 0.0) {
+        smoothBaselineAlongTrack(half, exclude_raised);
+        return;
+    }
     const int w = nx_ + 1;
     double total_sum = 0.0, total_cnt = 0.0;
     for (int iy = 0; iy < ny_; ++iy) {
@@ -87,6 +92,72 @@ void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
     }
 }
 
+// Paper 2.4: the moving average runs along the track. Beside a straight pass
+// the FLS and the PS see the seabed differently from the centre of the swath
+// (FLS elevation arcs the PS seldom carves), so averaging across the track mixes
+// two different apparent seabeds; along the track the apparent seabed of one
+// lateral offset is averaged with itself.
+void Segmenter::smoothBaselineAlongTrack(int half, bool exclude_raised) {
+    // Stage the usable column surfaces (NaN: not used) in sat_sum_, which holds
+    // at least one slot per column.
+    double total_sum = 0.0, total_cnt = 0.0;
+    for (std::size_t col = 0; col < surface_.size(); ++col) {
+        const double s = surface_[col];
+        const bool use = !std::isnan(s) &&
+                         !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+        sat_sum_[col] = use ? s : kNaN;
+        if (use) {
+            total_sum += s;
+            total_cnt += 1.0;
+        }
+    }
+    const double global = total_cnt > 0.0 ? total_sum / total_cnt : kNaN;
+    const double dx = along_track_.x(), dy = along_track_.y();
+    for (int iy = 0; iy < ny_; ++iy) {
+        for (int ix = 0; ix < nx_; ++ix) {
+            double sum = 0.0;
+            int cnt = 0;
+            for (int k = -half; k <= half; ++k) {
+                const int x = ix + static_cast<int>(std::lround(k * dx));
+                const int y = iy + static_cast<int>(std::lround(k * dy));
+                if (x < 0 || y < 0 || x >= nx_ || y >= ny_) continue;
+                const double v = sat_sum_[static_cast<std::size_t>(y) * nx_ + x];
+                if (std::isnan(v)) continue;
+                sum += v;
+                ++cnt;
+            }
+            baseline_[static_cast<std::size_t>(iy) * nx_ + ix] = cnt > 0 ? sum / cnt : global;
+        }
+    }
+}
+
+void Segmenter::setAlongTrack(const Eigen::Vector2d& north_east) {
+    const double n = north_east.norm();
+    along_track_ = std::isfinite(n) && n > 1e-9 ? Eigen::Vector2d(north_east / n) : Eigen::Vector2d::Zero();
+}
+
+// Echo confirmation: every voxel within ps_echo_radius (Chebyshev) of a voxel
+// holding a PS echo end point. PS rays that only cross a voxel carve it
+// (Eq. 13); a voxel they crossed a few times while the FLS voted it every frame
+// is not something the PS saw.
+void Segmenter::markConfirmed(const VoxelMap& map) {
+    std::fill(confirmed_.begin(), confirmed_.end(), 0);
+    const int r = cfg_.ps_echo_radius;
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        if (map.psEchoCount(i) < cfg_.ps_echo_min_count) continue;
+        const VoxelIndex c = map.fromLinear(i);
+        for (int z = std::max(0, c.z - r); z <= std::min(nz_ - 1, c.z + r); ++z)
+            for (int y = std::max(0, c.y - r); y <= std::min(ny_ - 1, c.y + r); ++y)
+                for (int x = std::max(0, c.x - r); x <= std::min(nx_ - 1, c.x + r); ++x)
+                    confirmed_[map.linear({x, y, z})] = 1;
+    }
+}
+
+bool Segmenter::confirmedByPs(const VoxelMap& map, std::size_t voxel) const {
+    if (!require_ps_) return true;
+    return confirmed_.empty() ? map.psObserved(voxel) : confirmed_[voxel] != 0;
+}
+
 void Segmenter::label(const VoxelMap& map) {
     const double res = map.resolution();
     const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
@@ -102,7 +173,7 @@ void Segmenter::label(const VoxelMap& map) {
         const int iz = static_cast<int>(i / layer);
         const double centre_z = map.origin().z() + (iz + 0.5) * res;
         if (std::isnan(base) || !(centre_z < base)) continue;
-        if (require_ps_ && !map.psObserved(i)) {
+        if (!confirmedByPs(map, i)) {
             ++stats_.unconfirmed_voxels;
             continue;
         }
@@ -135,6 +206,10 @@ void Segmenter::label(const VoxelMap& map) {
                         if (!map.contains(n)) continue;
                         const std::size_t nl = map.linear(n);
                         if (label_[nl] >= 0) continue;
+                        // A low voxel joins only from the layer above it (NED: dz = +1
+                        // is one layer deeper), so the object's foot cannot walk
+                        // along the seabed surface, which also lies in the low band.
+                        if (label_[nl] == -2 && cfg_.low_layers_from_above && dz != 1) continue;
                         label_[nl] = id;
                         queue_[tail++] = static_cast<uint32_t>(nl);
                     }
@@ -174,6 +249,7 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
     std::fill(baseline_.begin(), baseline_.end(), kNaN);
     smoothBaseline(map, false);
     smoothBaseline(map, true);
+    if (!confirmed_.empty()) markConfirmed(map);
     label(map);
     return stats_;
 }

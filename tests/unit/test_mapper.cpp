@@ -96,3 +96,16 @@ TEST(Variant, NamesRoundTripAndPresetsDiffer) {
     applyVariant(Variant::CarveOnly, c);
     EXPECT_FALSE(c.update.fls_enabled);
 }
+
+TEST(Mapper, SegmentsAlongTheTrackAxisOfItsNav) {
+    MapperConfig cfg;
+    Mapper mapper(cfg);
+    EXPECT_TRUE(mapper.trackAxis().axis().isZero());
+    // Out and back along east-west (yaw +-90 deg), as the reference survey's passes.
+    for (int i = 0; i < 10; ++i) mapper.addNav(test::poseAt(1000 + i, 0.0, 0.01 * i, 17.0, M_PI / 2));
+    for (int i = 10; i < 20; ++i) mapper.addNav(test::poseAt(1000 + i, 0.0, 0.1 - 0.01 * i, 17.0, -M_PI / 2));
+    mapper.initialiseMapAt(Eigen::Vector3d(0.0, 0.0, 20.0));
+    mapper.segment();
+    EXPECT_NEAR(std::fabs(mapper.segmenter().alongTrack().y()), 1.0, 1e-9);
+    EXPECT_NEAR(mapper.segmenter().alongTrack().x(), 0.0, 1e-9);
+}

@@ -135,3 +135,16 @@ TEST(VoxelWalk, ClipsSegmentsThatStartOutsideTheGrid) {
     walkSegment(map, Eigen::Vector3d(std::nan(""), 0, 0), Eigen::Vector3d(1, 1, 1), [&](std::size_t, double) { ++visited; });
     EXPECT_EQ(visited, 0);
 }
+
+TEST(PsCarving, CountsEchoesInTheEndVoxelOnly) {
+    VoxelMap map = originMap();
+    PsModel model{singleRay()};
+    PsCarver carver(model, UpdateConfig{});
+    Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+    sensor.translation() = Eigen::Vector3d(1.05, 2.05, 3.05);
+    for (int ping = 0; ping < 3; ++ping) carver.apply(0.0, 2.0, sensor, map);
+    EXPECT_EQ(map.psEchoCount(map.linear({30, 20, 30})), 3);  // the echo's voxel, once per ray
+    for (int ix = 10; ix < 30; ++ix) EXPECT_EQ(map.psEchoCount(map.linear({ix, 20, 30})), 0) << "crossed voxel " << ix;
+    // A voxel crossed far more often than the FLS frame rate never becomes an echo.
+    EXPECT_TRUE(map.psObserved(map.linear({20, 20, 30})));
+}

@@ -1,10 +1,18 @@
 #include <gtest/gtest.h>
 
 #include "sonarfusion/segmentation.hpp"
+#include "sonarfusion/track_axis.hpp"
 
 using namespace sonarfusion;
 
 namespace {
+// What a PS that looked at a voxel leaves there: the observed flag and, by
+// default, enough echoes to confirm it (SegmentationConfig::ps_echo_min_count).
+void markSeenByPs(VoxelMap& m, std::size_t v, int echoes = SegmentationConfig{}.ps_echo_min_count) {
+    m.setFlag(v, VoxelMap::kPsObserved);
+    for (int i = 0; i < echoes; ++i) m.addPsEcho(v);
+}
+
 // Seabed: occupied layers iz 80..84 (surface at z = 15 + 8.0 = 23.0 m with origin z 15).
 // Box: ix 40..49, iy 45..50, iz 70..79 (1 m tall) resting on it.
 void buildScene(VoxelMap& m, bool ps_observed) {
@@ -17,11 +25,11 @@ void buildScene(VoxelMap& m, bool ps_observed) {
             for (int ix = 40; ix < 50; ++ix) {
                 const std::size_t v = m.linear({ix, iy, iz});
                 m.add(v, 3.0f);
-                if (ps_observed) m.setFlag(v, VoxelMap::kPsObserved);
+                if (ps_observed) markSeenByPs(m, v);
             }
     // A lone speck in the water: too small to be an object.
     m.add(m.linear({10, 10, 30}), 3.0f);
-    m.setFlag(m.linear({10, 10, 30}), VoxelMap::kPsObserved);
+    markSeenByPs(m, m.linear({10, 10, 30}));
 }
 }  // namespace
 
@@ -71,4 +79,155 @@ TEST(Segmentation, RerunsGiveTheSameAnswer) {
     seg.run(m);
     ASSERT_EQ(seg.objects().size(), 1u);
     EXPECT_EQ(seg.objects()[0].voxel_count, first);
+}
+
+// --- PS echo confirmation (SegmentationConfig::ps_echo_radius, ps_echo_min_count)
+
+namespace {
+// The scene with the box seen by no PS, then one echo voxel on the box's top
+// corner voxel (40, 45, 70) with `echoes` echoes.
+int objectVoxelsWithEchoes(int echoes, const SegmentationConfig& cfg) {
+    VoxelMap m{MapConfig{}};
+    buildScene(m, false);
+    for (int iz = 70; iz < 80; ++iz)
+        for (int iy = 45; iy <= 50; ++iy)
+            for (int ix = 40; ix < 50; ++ix) m.setFlag(m.linear({ix, iy, iz}), VoxelMap::kPsObserved);  // crossed
+    markSeenByPs(m, m.linear({40, 45, 70}), echoes);
+    Segmenter seg(cfg, true, m);
+    seg.run(m);
+    int in_box = 0;  // object voxels of the box (the speck may be an object too)
+    for (int iz = 70; iz < 80; ++iz)
+        for (int iy = 45; iy <= 50; ++iy)
+            for (int ix = 40; ix < 50; ++ix) in_box += seg.objectLabel(m.linear({ix, iy, iz})) > 0;
+    return in_box;
+}
+}  // namespace
+
+TEST(SegmentationEcho, CrossingRaysAloneDoNotConfirm) {
+    SegmentationConfig cfg;
+    // Every box voxel crossed by a PS ray, no echo anywhere: nothing confirmed.
+    EXPECT_EQ(objectVoxelsWithEchoes(0, cfg), 0);
+    // The rule as first written (negative radius): crossing is enough.
+    cfg.ps_echo_radius = -1;
+    EXPECT_EQ(objectVoxelsWithEchoes(0, cfg), 600);
+}
+
+TEST(SegmentationEcho, AnEchoConfirmsItsNeighbourhoodOnceItHasEnoughEchoes) {
+    SegmentationConfig cfg;
+    cfg.min_object_voxels = 1;
+    cfg.ps_echo_min_count = 3;
+    EXPECT_EQ(objectVoxelsWithEchoes(2, cfg), 0);  // too few echoes: speckle, not a surface
+    // Radius 1 around the corner voxel (40, 45, 70): the 2 x 2 x 2 block inside the box.
+    EXPECT_EQ(objectVoxelsWithEchoes(3, cfg), 8);
+    cfg.ps_echo_radius = 0;
+    EXPECT_EQ(objectVoxelsWithEchoes(3, cfg), 1);
+    cfg.ps_echo_radius = 2;
+    EXPECT_EQ(objectVoxelsWithEchoes(3, cfg), 27);
+}
+
+TEST(SegmentationEcho, EchoCountSaturatesInTheFlagByte) {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d::Zero());
+    m.setFlag(5, VoxelMap::kPsObserved | VoxelMap::kFlsTouched);
+    for (int i = 0; i < 100; ++i) m.addPsEcho(5);
+    EXPECT_EQ(m.psEchoCount(5), VoxelMap::kPsEchoMax);
+    EXPECT_TRUE(m.psObserved(5));
+    EXPECT_EQ(m.flags(5) & VoxelMap::kFlsTouched, VoxelMap::kFlsTouched);
+    EXPECT_EQ(m.psEchoCount(6), 0);
+}
+
+// --- Hysteresis only downward (SegmentationConfig::low_layers_from_above)
+
+TEST(Segmentation, LowLayersJoinFromAboveOnlyNotAlongTheSeabed) {
+    VoxelMap m{MapConfig{}};
+    buildScene(m, true);
+    // A confirmed sheet just above the seabed everywhere, one empty layer
+    // between (iz 78, centre 0.15 m above the surface at 23.0 m): FLS arcs and
+    // PS echoes scattered just above the seabed.
+    for (int iy = 0; iy < 100; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            const std::size_t v = m.linear({ix, iy, 78});
+            if (m.logOdds(v) > 0.0f) continue;  // the box's own layer
+            m.add(v, 3.0f);
+            markSeenByPs(m, v);
+        }
+    SegmentationConfig cfg;
+    cfg.min_object_height = 0.2;  // iz 78 and 79 are the low band, the box above seeds
+    Segmenter seg(cfg, true, m);
+    ASSERT_EQ(seg.run(m).objects, 1);
+    // The box keeps its low layers (under its seeds) and from the sheet takes
+    // only the ring diagonally below its seeds' edge.
+    const int ring = 12 * 8 - 10 * 6;
+    EXPECT_EQ(seg.objects()[0].voxel_count, 600 + ring);
+    EXPECT_EQ(seg.objectLabel(m.linear({45, 47, 79})), seg.objects()[0].id);
+    EXPECT_EQ(seg.objectLabel(m.linear({20, 20, 78})), 0);
+    // Joined from any side, the foot walks along the whole sheet.
+    cfg.low_layers_from_above = false;
+    Segmenter spread(cfg, true, m);
+    spread.run(m);
+    EXPECT_EQ(spread.objects()[0].voxel_count, 100 * 100 - 60 + 600);
+}
+
+// --- Along-track seabed baseline (paper 2.4; SegmentationConfig::baseline_along_track)
+
+namespace {
+// Seabed as in buildScene; beside the track (iy 70..73, along all of x) the
+// apparent seabed stands 0.5 m higher, as FLS elevation arcs the PS seldom
+// carves leave it beside a straight pass along x.
+void addRaisedBandAlongX(VoxelMap& m) {
+    for (int iy = 70; iy <= 73; ++iy)
+        for (int ix = 0; ix < 100; ++ix)
+            for (int iz = 75; iz < 80; ++iz) {
+                const std::size_t v = m.linear({ix, iy, iz});
+                m.add(v, 3.0f);
+                markSeenByPs(m, v);
+            }
+}
+}  // namespace
+
+TEST(Segmentation, AlongTrackBaselineFollowsABandBesideTheTrack) {
+    VoxelMap m{MapConfig{}};
+    buildScene(m, true);
+    addRaisedBandAlongX(m);
+    // Square window: the band stands above the average of its neighbourhood.
+    Segmenter square(SegmentationConfig{}, true, m);
+    EXPECT_EQ(square.run(m).objects, 2);
+    // Along the track (x): the band is the seabed of its own lateral offset.
+    Segmenter along(SegmentationConfig{}, true, m);
+    along.setAlongTrack(Eigen::Vector2d(-3.0, 0.0));  // normalised; the sign does not matter
+    EXPECT_TRUE(along.alongTrack().isApprox(Eigen::Vector2d(-1.0, 0.0)));
+    ASSERT_EQ(along.run(m).objects, 1);
+    EXPECT_EQ(along.objects()[0].voxel_count, 600);
+    EXPECT_NEAR(along.seabedDepth(45, 71), 22.5, 1e-9);
+    EXPECT_NEAR(along.seabedDepth(45, 47), 23.0, 1e-9);  // the box does not lift its own baseline
+    // Switched off in the config: the square window again.
+    SegmentationConfig off;
+    off.baseline_along_track = false;
+    Segmenter square_again(off, true, m);
+    square_again.setAlongTrack(Eigen::Vector2d(1.0, 0.0));
+    EXPECT_EQ(square_again.run(m).objects, 2);
+}
+
+TEST(TrackAxis, AveragesHeadingsAsAxes) {
+    TrackAxis t;
+    EXPECT_TRUE(t.axis().isZero());  // no heading yet
+    for (int i = 0; i < 10; ++i) t.add(0.0);
+    for (int i = 0; i < 10; ++i) t.add(M_PI);  // the return pass shares the axis
+    t.add(std::nan(""));                        // ignored
+    EXPECT_EQ(t.count(), 20);
+    const Eigen::Vector2d a = t.axis();
+    EXPECT_NEAR(std::fabs(a.x()), 1.0, 1e-12);
+    EXPECT_NEAR(a.y(), 0.0, 1e-12);
+
+    TrackAxis east;
+    east.add(M_PI / 2 + 0.01);
+    east.add(-M_PI / 2 - 0.01);
+    EXPECT_NEAR(std::fabs(east.axis().y()), 1.0, 1e-3);
+
+    TrackAxis crossing;  // two perpendicular legs: no single axis
+    for (int i = 0; i < 10; ++i) crossing.add(0.0);
+    for (int i = 0; i < 10; ++i) crossing.add(M_PI / 2);
+    EXPECT_TRUE(crossing.axis().isZero());
+    crossing.clear();
+    EXPECT_EQ(crossing.count(), 0);
 }

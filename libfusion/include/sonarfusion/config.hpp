@@ -105,9 +105,25 @@ struct DetectorConfig {
 struct SegmentationConfig {
     double occupied_probability = 0.7;  // threshold on Eq. 9
     double baseline_window = 3.0;       // m, moving-average window of the seabed
+    // Average along the track (paper 2.4) when the along-track axis is known
+    // (Segmenter::setAlongTrack); otherwise, or when false, a square window.
+    bool baseline_along_track = true;
     double min_object_height = 0.15;    // m above the baseline
     int min_object_voxels = 10;         // smaller connected groups are noise
+    // Voxels above the baseline but below min_object_height join an object only
+    // from a voxel in the layer above them (hysteresis downward only). When
+    // false they join from any side, and the seabed surface voxels, which lie in
+    // that band too, carry an object out along the whole seabed.
+    bool low_layers_from_above = true;
     int max_objects = 64;               // fixed-size result
+    // PS confirmation (DESIGN.md §3), where the variant requires it: a voxel is
+    // confirmed when a PS echo (the end point of Eq. 11) fell within this many
+    // voxels of it (Chebyshev distance). A ray that merely crosses a voxel is
+    // evidence of free space, not of an object. Negative: any PS ray crossing or
+    // ending in the voxel confirms it (the rule as DESIGN.md first wrote it).
+    int ps_echo_radius = 1;
+    // Echoes a voxel must hold to confirm its neighbourhood.
+    int ps_echo_min_count = 10;
 };
 
 struct MapperConfig {

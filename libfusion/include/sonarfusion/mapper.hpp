@@ -15,6 +15,7 @@
 #include "sonarfusion/ps_carving.hpp"
 #include "sonarfusion/ps_model.hpp"
 #include "sonarfusion/segmentation.hpp"
+#include "sonarfusion/track_axis.hpp"
 #include "sonarfusion/voxel_map.hpp"
 
 namespace sonarfusion {
@@ -53,7 +54,8 @@ public:
     Outcome addNav(const TimedPose& nav);
     Outcome addFls(const FlsFrame& frame);
     Outcome addPs(const PsPing& ping);
-    // Paper 2.4 over the current map.
+    // Paper 2.4 over the current map, the seabed averaged along the track axis
+    // of the NAV received so far (see trackAxis()).
     const SegmentationStats& segment();
 
     // Anchors the map by hand (e.g. a known target, or a restored checkpoint).
@@ -63,6 +65,7 @@ public:
     [[nodiscard]] VoxelMap& mutableMap() { return map_; }
     [[nodiscard]] const Segmenter& segmenter() const { return segmenter_; }
     [[nodiscard]] const ObjectDetector& detector() const { return detector_; }
+    [[nodiscard]] const TrackAxis& trackAxis() const { return track_axis_; }
     [[nodiscard]] const MapperCounters& counters() const { return counters_; }
     [[nodiscard]] const MapperConfig& config() const { return cfg_; }
     [[nodiscard]] const FlsModel& flsModel() const { return fls_model_; }
@@ -81,6 +84,7 @@ private:
     ObjectDetector detector_;
     Segmenter segmenter_;
     NavBuffer nav_;
+    TrackAxis track_axis_;
     MapperCounters counters_;
 };
 

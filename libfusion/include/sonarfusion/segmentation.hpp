@@ -25,7 +25,7 @@ struct ObjectInfo {
 struct SegmentationStats {
     int occupied_voxels = 0;
     int candidate_voxels = 0;      // occupied, above the seabed surface, (PS-confirmed if required)
-    int unconfirmed_voxels = 0;    // would be candidates but the PS never observed them
+    int unconfirmed_voxels = 0;    // would be candidates but the PS never confirmed them
     int objects = 0;
     int objects_dropped = 0;       // beyond max_objects
 };
@@ -36,6 +36,11 @@ public:
 
     // Recomputes everything from the map; no allocation.
     const SegmentationStats& run(const VoxelMap& map);
+
+    // Horizontal along-track axis (north, east; normalised here) for the
+    // seabed moving average (paper 2.4). Zero, or never set: a square window.
+    void setAlongTrack(const Eigen::Vector2d& north_east);
+    [[nodiscard]] const Eigen::Vector2d& alongTrack() const { return along_track_; }
 
     [[nodiscard]] const std::vector<ObjectInfo>& objects() const { return objects_; }
     // Per voxel: 0, or the id of the object it belongs to.
@@ -48,6 +53,9 @@ public:
 private:
     void columnSurfaces(const VoxelMap& map);
     void smoothBaseline(const VoxelMap& map, bool exclude_raised);
+    void smoothBaselineAlongTrack(int half, bool exclude_raised);
+    void markConfirmed(const VoxelMap& map);
+    [[nodiscard]] bool confirmedByPs(const VoxelMap& map, std::size_t voxel) const;
     void label(const VoxelMap& map);
 
     SegmentationConfig cfg_;
@@ -55,6 +63,7 @@ private:
     int nx_, ny_, nz_;
     float logodds_threshold_;
     std::vector<uint8_t> occupied_;      // per voxel
+    std::vector<uint8_t> confirmed_;     // per voxel: a PS echo within ps_echo_radius
     std::vector<int32_t> label_;         // per voxel
     std::vector<uint32_t> queue_;        // flood-fill queue, one slot per voxel
     std::vector<double> surface_;        // per column: depth of the seabed surface seen, NaN none
@@ -62,6 +71,7 @@ private:
     std::vector<double> sat_sum_, sat_cnt_;  // summed-area tables, (nx+1)*(ny+1)
     std::vector<ObjectInfo> objects_;    // capacity max_objects
     SegmentationStats stats_;
+    Eigen::Vector2d along_track_ = Eigen::Vector2d::Zero();  // unit (north, east), or zero
 };
 
 }  // namespace sonarfusion

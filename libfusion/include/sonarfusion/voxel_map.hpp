@@ -26,6 +26,10 @@ class VoxelMap {
 public:
     static constexpr uint8_t kPsObserved = 1u << 0;  // a PS ray crossed or ended here
     static constexpr uint8_t kFlsTouched = 1u << 1;  // an FLS candidate point fell here
+    // Bits 2..7 count the PS echoes (end points of Eq. 11) that fell here,
+    // saturating at kPsEchoMax, so a saved map keeps them in its flag byte.
+    static constexpr int kPsEchoShift = 2;
+    static constexpr uint8_t kPsEchoMax = 63;
 
     explicit VoxelMap(const MapConfig& cfg);
 
@@ -58,6 +62,10 @@ public:
     [[nodiscard]] float occupancy(std::size_t i) const { return occupancyFromLogOdds(log_odds_[i]); }
     [[nodiscard]] uint8_t flags(std::size_t i) const { return flags_[i]; }
     [[nodiscard]] bool psObserved(std::size_t i) const { return (flags_[i] & kPsObserved) != 0; }
+    [[nodiscard]] int psEchoCount(std::size_t i) const { return flags_[i] >> kPsEchoShift; }
+    void addPsEcho(std::size_t i) {
+        if (psEchoCount(i) < kPsEchoMax) flags_[i] = static_cast<uint8_t>(flags_[i] + (1u << kPsEchoShift));
+    }
 
     // Eqs. 6/13 followed by the clamp of Eqs. 7-8.
     void add(std::size_t i, float delta) {
