@@ -10,6 +10,9 @@
 #include <memory>
 
 #include "figures.hpp"
+#ifdef SF_EVAL_MAPPER_CONFIG
+#include "mapper_config_yaml.hpp"
+#endif
 #include "ground_truth.hpp"
 #include "map_file.hpp"
 #include "map_scoring.hpp"
@@ -57,13 +60,18 @@ int variantRank(const std::string& v) {
 
 int main(int argc, char** argv) {
     CLI::App app{"sf-eval: score sonarfusion maps against the scenario's ground-truth meshes"};
-    std::string scenario_path, json_path, figures_dir, maps_dir;
+    std::string scenario_path, json_path, figures_dir, maps_dir, config_path;
     std::vector<std::string> map_args;
     bool merge = false, no_ply = false;
     VisibilityOptions vis;
     EndFaceSelection face;
     app.add_option("--scenario", scenario_path, "scenario YAML (meshes, trajectory, sensors)")->required()->check(CLI::ExistingFile);
     app.add_option("--map", map_args, "map file, or VARIANT=PATH (repeatable; variant defaults to the file's)");
+#ifdef SF_EVAL_MAPPER_CONFIG
+    app.add_option("--config", config_path,
+                   "the sf-mapper YAML the maps were made with: segment them with its settings (default: built-in defaults)")
+        ->check(CLI::ExistingFile);
+#endif
     app.add_option("--maps-dir", maps_dir, "score every map file in this folder")->check(CLI::ExistingDirectory);
     app.add_option("--json", json_path, "write report.json here");
     app.add_flag("--merge", merge, "keep the other variants (and extra keys) of an existing --json file");
@@ -82,6 +90,10 @@ int main(int argc, char** argv) {
             for (const auto& m : mapsInDir(maps_dir)) inputs.push_back(m);
         if (inputs.empty()) throw std::runtime_error("no map given (--map or --maps-dir)");
 
+        MapperConfig base_config;  // what sf-mapper uses without a config file
+#ifdef SF_EVAL_MAPPER_CONFIG
+        if (!config_path.empty()) base_config = loadDaemonConfig(config_path).mapper;
+#endif
         const EvalScenario scenario = loadEvalScenario(scenario_path);
         if (scenario.object_meshes.empty()) throw std::runtime_error("scenario has no object mesh");
         std::cerr << "sf-eval: ground truth and visibility for " << scenario.name << " ...\n";
@@ -114,7 +126,7 @@ int main(int argc, char** argv) {
                 l.truth = std::make_shared<GroundTruth>(groundTruthInGrid(scene, grid));
                 truths.push_back(l.truth);
             }
-            l.prediction = segmentMap(*l.map, *variant);
+            l.prediction = segmentMap(*l.map, *variant, base_config, scenario.track_axis);
             l.score = scorePrediction(grid, l.prediction, *l.truth, scored_scene, face);
             l.score.variant = name;
             l.score.map_path = in.path;

@@ -5,9 +5,15 @@
 namespace sonarfusion::eval {
 
 Prediction segmentMap(const VoxelMap& map, Variant variant) {
-    MapperConfig cfg;
-    applyVariant(variant, cfg);
+    return segmentMap(map, variant, MapperConfig{}, Eigen::Vector2d::Zero());
+}
+
+Prediction segmentMap(const VoxelMap& map, Variant variant, const MapperConfig& base,
+                      const Eigen::Vector2d& along_track) {
+    MapperConfig cfg = base;
+    applyVariant(variant, cfg);  // as sf-mapper --variant does
     Segmenter seg(cfg.segmentation, cfg.update.require_ps_observation, map);
+    seg.setAlongTrack(along_track);
     Prediction p;
     p.stats = seg.run(map);
     p.object.assign(map.size(), 0);

@@ -10,6 +10,7 @@
 #include "end_face.hpp"
 #include "ground_truth.hpp"
 #include "metrics.hpp"
+#include "sonarfusion/config.hpp"
 #include "sonarfusion/segmentation.hpp"
 #include "sonarfusion/variant.hpp"
 #include "sonarfusion/voxel_map.hpp"
@@ -22,6 +23,12 @@ struct Prediction {
     SegmentationStats stats;
 };
 
+// Segments as sf-mapper does: `base` (MapperConfig defaults, or the mapper's
+// YAML via sf-eval --config) with the preset of `variant` applied, the seabed
+// averaged along `along_track` (unit north, east; zero: square window).
+[[nodiscard]] Prediction segmentMap(const VoxelMap& map, Variant variant, const MapperConfig& base,
+                                    const Eigen::Vector2d& along_track);
+// MapperConfig defaults, no track axis.
 [[nodiscard]] Prediction segmentMap(const VoxelMap& map, Variant variant);
 
 struct VariantScore {

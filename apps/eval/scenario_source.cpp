@@ -4,6 +4,7 @@
 
 #include "scenario.hpp"
 #include "sonarfusion/pose.hpp"
+#include "sonarfusion/track_axis.hpp"
 #include "trajectory.hpp"
 
 namespace sonarfusion::eval {
@@ -21,7 +22,9 @@ EvalScenario loadEvalScenario(const std::string& path) {
     }
     SensorRun fls{"fls", SensorFov::fls(s.fls), {}};
     SensorRun ps{"ps", SensorFov::ps(s.ps), {}};
+    TrackAxis track;
     for (const sim::SequenceState& q : sim::buildSequences(s)) {
+        track.add(q.pose.yaw);
         const Eigen::Isometry3d ps_pose = sensorToWorld(q.pose, s.ps_mount);
         ps.poses.push_back({ps_pose.translation(), ps_pose.linear()});
         if (q.has_fls) {
@@ -29,6 +32,7 @@ EvalScenario loadEvalScenario(const std::string& path) {
             fls.poses.push_back({fls_pose.translation(), fls_pose.linear()});
         }
     }
+    out.track_axis = track.axis();
     out.runs = {fls, ps};
     return out;
 }

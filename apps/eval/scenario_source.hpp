@@ -16,6 +16,9 @@ struct EvalScenario {
     std::vector<std::string> object_meshes, seabed_meshes;
     std::vector<SensorRun> runs;  // "fls" (frames only), "ps" (every sequence)
     Eigen::Vector3d along_track = Eigen::Vector3d::UnitX();  // heading of the first pass
+    // Axial mean of the vehicle headings of every sequence (one NAV each), as
+    // the mapper's TrackAxis sees them; zero when they do not share one axis.
+    Eigen::Vector2d track_axis = Eigen::Vector2d::Zero();
     std::optional<double> declared_face_angle_deg;
 };
 
