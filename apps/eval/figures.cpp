@@ -123,8 +123,10 @@ void drawAxes(cv::Mat& img, const View& view, const std::string& title, const st
     text(img, bar_label, {bx - 10, kTop + bh + 18}, 0.4);
 }
 
-cv::Mat drawProjection(const View& view, const FigurePanel& panel, const SceneTruth& scene,
-                       const std::string& title) {
+// objects_only: count the voxels the segmentation reports as objects (the set P
+// that is scored) instead of every occupied voxel.
+cv::Mat drawProjection(const View& view, const FigurePanel& panel, const SceneTruth& scene, const std::string& title,
+                       bool objects_only) {
     const VoxelMap& map = *panel.map;
     const GridSpec grid = GridSpec::of(map);
     const GroundTruth& gt = *panel.truth;
@@ -136,11 +138,12 @@ cv::Mat drawProjection(const View& view, const FigurePanel& panel, const SceneTr
             double& top = seabed_top[static_cast<std::size_t>(v.y()) * grid.nx + v.x()];
             top = std::min(top, grid.centre(i).z());
         }
-    // Count occupied voxels per (ix, i_vertical) cell of the projection.
+    // Count occupied (or object) voxels per (ix, i_vertical) cell of the projection.
+    const VoxelMask& shown = objects_only ? panel.prediction->object : panel.prediction->occupied;
     const int nv = view.side ? grid.nz : grid.ny;
     std::vector<int> count(static_cast<std::size_t>(grid.nx) * nv, 0);
     for (std::size_t i = 0; i < grid.size(); ++i) {
-        if (!panel.prediction->occupied[i]) continue;
+        if (!shown[i]) continue;
         const Eigen::Vector3d c = grid.centre(i);
         const Eigen::Vector3i v = grid.index(i);
         if (c.x() < view.w.x0 || c.x() > view.w.x1 || c.y() < view.w.y0 || c.y() > view.w.y1 || c.z() < view.w.z0 ||
@@ -176,25 +179,27 @@ std::vector<std::string> writeFigures(const std::string& dir, const std::string&
     std::filesystem::create_directories(dir);
     const Window window = windowAround(scene);
     std::vector<std::string> written;
-    for (bool side : {true, false}) {
-        const View view{side, window};
-        std::vector<cv::Mat> images;
-        for (const FigurePanel& p : panels) {
-            const std::string title = scenario + "  " + p.variant + ": " + (side ? "side view" : "top view") +
-                                      ", occupied voxels, true outline red";
-            images.push_back(drawProjection(view, p, scene, title));
-            const std::string path = dir + "/eval_" + p.variant + (side ? "_side.png" : "_top.png");
-            if (!cv::imwrite(path, images.back())) throw std::runtime_error("figures: cannot write " + path);
-            written.push_back(path);
+    for (bool objects_only : {false, true})
+        for (bool side : {true, false}) {
+            const View view{side, window};
+            const std::string suffix = std::string(side ? "_side" : "_top") + (objects_only ? "_objects" : "");
+            std::vector<cv::Mat> images;
+            for (const FigurePanel& p : panels) {
+                const std::string title = scenario + "  " + p.variant + ": " + (side ? "side view" : "top view") +
+                                          (objects_only ? ", object voxels" : ", occupied voxels") + ", true outline red";
+                images.push_back(drawProjection(view, p, scene, title, objects_only));
+                const std::string path = dir + "/eval_" + p.variant + suffix + ".png";
+                if (!cv::imwrite(path, images.back())) throw std::runtime_error("figures: cannot write " + path);
+                written.push_back(path);
+            }
+            if (images.size() > 1) {
+                cv::Mat all;
+                cv::vconcat(images, all);
+                const std::string path = dir + "/eval" + suffix + "_all.png";
+                if (!cv::imwrite(path, all)) throw std::runtime_error("figures: cannot write " + path);
+                written.push_back(path);
+            }
         }
-        if (images.size() > 1) {
-            cv::Mat all;
-            cv::vconcat(images, all);
-            const std::string path = dir + (side ? "/eval_side_all.png" : "/eval_top_all.png");
-            if (!cv::imwrite(path, all)) throw std::runtime_error("figures: cannot write " + path);
-            written.push_back(path);
-        }
-    }
     return written;
 }
 

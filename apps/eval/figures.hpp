@@ -22,7 +22,9 @@ struct FigurePanel {
 };
 
 // DIR/eval_<variant>_side.png, eval_<variant>_top.png and, with more than one
-// panel, eval_side_all.png / eval_top_all.png stacking them. Returns the paths.
+// panel, eval_side_all.png / eval_top_all.png stacking them; the same with
+// suffix _objects (eval_<variant>_side_objects.png, eval_side_objects_all.png,
+// ...) counting only the object voxels that are scored. Returns the paths.
 std::vector<std::string> writeFigures(const std::string& dir, const std::string& scenario, const SceneTruth& scene,
                                       const std::vector<FigurePanel>& panels);
 
