@@ -108,7 +108,11 @@ DaemonConfig loadDaemonConfig(const std::string& path) {
            {"baseline_window", set(m.segmentation.baseline_window)},
            {"min_object_height", set(m.segmentation.min_object_height)},
            {"min_object_voxels", set(m.segmentation.min_object_voxels)},
-           {"max_objects", set(m.segmentation.max_objects)}},
+           {"max_objects", set(m.segmentation.max_objects)},
+           {"baseline_along_track", set(m.segmentation.baseline_along_track)},
+           {"low_layers_from_above", set(m.segmentation.low_layers_from_above)},
+           {"ps_echo_radius", set(m.segmentation.ps_echo_radius)},
+           {"ps_echo_min_count", set(m.segmentation.ps_echo_min_count)}},
           path);
     apply(root["nav"], "nav",
           {{"max_gap_us", set(m.max_nav_gap_us)}, {"buffer_capacity", set(m.nav_buffer_capacity)}}, path);
