@@ -43,6 +43,9 @@ def live(root, build, scenario, out):
     check(logged["seq_gaps"] == {"nav": 0, "fls": 0, "ps": 0},
           f"lcm-logger recorded every message (gaps {logged['seq_gaps']})")
     check(report["live"]["identical_to_offline_fused"] is True, "live map == offline map over the lcm-logger log")
+    # The evaluation of the mission meets the accuracy bars (tests/accuracy/check_bars.py).
+    bars = subprocess.run([sys.executable, f"{root}/tests/accuracy/check_bars.py", scenario, f"{out}/report.json"])
+    check(bars.returncode == 0, "the mission's evaluation meets the accuracy bars of issue 4")
 
 
 def scenario_with_passes(src, dst, passes):
