@@ -27,6 +27,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     const int nx = map.nx(), ny = map.ny(), nz = map.nz();
     const int nv = model_.elevationSamples();
     std::size_t n_touched = 0;
+    VoxelMap::Writer out = map.writer();
 
     for (int row = 0; row < frame.rows; ++row) {
         const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
@@ -38,18 +39,20 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * nv];
             for (int k = 0; k < nv; ++k) {
                 const Eigen::Vector3f p = sensor + range * dir[k];  // Eq. 4, in voxel units
-                const float fx = std::floor(p.x()), fy = std::floor(p.y()), fz = std::floor(p.z());
-                if (!(fx >= 0.0f && fy >= 0.0f && fz >= 0.0f && fx < nx && fy < ny && fz < nz)) {
+                // Bounds on the raw coordinates (NaN fails them); inside the grid
+                // they are >= 0, where truncation equals floor() and is cheaper.
+                if (!(p.x() >= 0.0f && p.y() >= 0.0f && p.z() >= 0.0f && p.x() < nx && p.y() < ny && p.z() < nz)) {
                     ++st.points_outside_map;
                     continue;
                 }
                 ++st.points_in_map;
-                const std::size_t v = (static_cast<std::size_t>(fz) * ny + static_cast<std::size_t>(fy)) * nx +
-                                      static_cast<std::size_t>(fx);
+                const std::size_t v = (static_cast<std::size_t>(static_cast<int>(p.z())) * ny +
+                                       static_cast<std::size_t>(static_cast<int>(p.y()))) * nx +
+                                      static_cast<std::size_t>(static_cast<int>(p.x()));
                 if (!cfg_.fls_once_per_frame) {
                     // Eq. 6 per candidate point, then the clamp of Eq. 8.
-                    map.add(v, increment_ * intensity / 255.0f);
-                    map.setFlag(v, VoxelMap::kFlsTouched);
+                    out.add(v, increment_ * intensity / 255.0f);
+                    out.setFlag(v, VoxelMap::kFlsTouched);
                     ++st.voxels_updated;
                     continue;
                 }
@@ -67,8 +70,8 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     // Per-frame counting: each voxel gets Eq. 6 once, with its strongest intensity.
     for (std::size_t i = 0; i < n_touched; ++i) {
         const uint32_t v = touched_[i];
-        map.add(v, increment_ * strongest_[i] / 255.0f);
-        map.setFlag(v, VoxelMap::kFlsTouched);
+        out.add(v, increment_ * strongest_[i] / 255.0f);
+        out.setFlag(v, VoxelMap::kFlsTouched);
         slot_[v] = 0;
     }
     if (cfg_.fls_once_per_frame) st.voxels_updated = static_cast<int>(n_touched);

@@ -19,9 +19,10 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
     for (int k = 0; k < model_.fanSamples(); ++k) {
         const Eigen::Vector3d end = origin + world_from_sensor.linear() * (selected_range * model_.direction(head_angle, k));
         ++st.rays;
+        VoxelMap::Writer out = map.writer();
         const WalkResult w = walkSegment(map, origin, end, [&](std::size_t v, double t) {
-            map.add(v, free_increment_ * std::exp(-alpha * static_cast<float>(t)));  // Eq. 13
-            map.setFlag(v, VoxelMap::kPsObserved);
+            out.add(v, free_increment_ * std::exp(-alpha * static_cast<float>(t)));  // Eq. 13
+            out.setFlag(v, VoxelMap::kPsObserved);
         });
         st.voxels_carved += w.visited;
         if (w.end_in_map) {

@@ -130,28 +130,6 @@ double runVoxelMapAddOnly(const UpdateStream& s, const Prefix& p, VoxelMap& map)
     return secondsSince(t);
 }
 
-// What (a) would cost with the change proposed for VoxelMap::add
-// (docs/performance.md, next steps): clamp bounds held in registers and a
-// branch-free clamp, flags written as now. Plain arrays stand in for
-// VoxelMap's, since libfusion is not ours to change here; the result must
-// still equal the Mapper's map bit for bit.
-double runProposedAdd(const UpdateStream& s, const Prefix& p, float clamp_min, float clamp_max,
-                      std::vector<float>& log_odds, std::vector<uint8_t>& flags) {
-    std::fill(log_odds.begin(), log_odds.end(), 0.0f);
-    std::fill(flags.begin(), flags.end(), uint8_t{0});
-    const sfbench::VoxelUpdate* u = s.updates.data();
-    const uint8_t* f = s.update_flag.data();
-    float* l = log_odds.data();
-    uint8_t* fl = flags.data();
-    const auto t = Clock::now();
-    for (std::size_t i = 0; i < p.updates; ++i) {
-        const uint32_t v = u[i].voxel;
-        l[v] = std::min(std::max(l[v] + u[i].delta, clamp_min), clamp_max);
-        fl[v] |= f[i];
-    }
-    return secondsSince(t);
-}
-
 double runOctomapStream(const UpdateStream& s, const Prefix& p, const std::vector<octomap::OcTreeKey>& keys,
                         octomap::OcTree& tree) {
     const auto t = Clock::now();
@@ -189,74 +167,9 @@ double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, cons
 }
 
 // --- what-ifs for libfusion's hot loops (docs/performance.md, next steps) ---
-// Copies of FlsUpdater::apply / PsCarver::apply with one proposed change each,
+// A copy of PsCarver::apply with one proposed change,
 // through VoxelMap's public add/setFlag, so the gain is measured, not guessed.
 
-// FlsUpdater::apply with the three std::floor calls per candidate point
-// replaced by a range test on the float and an int truncation (equal to floor
-// for the non-negative values that pass the test: same voxels, same map).
-class FlsTruncatingUpdater {
-public:
-    FlsTruncatingUpdater(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map)
-        : model_(model), cfg_(cfg),
-          increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
-          world_direction_(model.directions().size()), slot_(map.size(), 0u),
-          touched_(std::min<std::size_t>(map.size(), model.directions().size() * model.rows())),
-          strongest_(touched_.size()) {}
-
-    void apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map) {
-        const Eigen::Matrix3f rot = world_from_sensor.linear().cast<float>();
-        for (std::size_t i = 0; i < world_direction_.size(); ++i) world_direction_[i] = rot * model_.directions()[i];
-        const float inv_res = static_cast<float>(1.0 / map.resolution());
-        const Eigen::Vector3f sensor = ((world_from_sensor.translation() - map.origin()) / map.resolution()).cast<float>();
-        const int nx = map.nx(), ny = map.ny(), nz = map.nz();
-        const float fnx = static_cast<float>(nx), fny = static_cast<float>(ny), fnz = static_cast<float>(nz);
-        const int nv = model_.elevationSamples();
-        const int threshold = cfg_.fls_intensity_threshold;
-        std::size_t n_touched = 0;
-        for (int row = 0; row < frame.rows; ++row) {
-            const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
-            const float range = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
-            for (int col = 0; col < frame.cols; ++col) {
-                const uint8_t intensity = line[col];
-                if (intensity <= threshold) continue;
-                const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * nv];
-                for (int k = 0; k < nv; ++k) {
-                    const Eigen::Vector3f q = sensor + range * dir[k];
-                    // floor(x) >= 0 && floor(x) < n  <=>  x >= 0 && x < n, for integer n.
-                    if (!(q.x() >= 0.0f && q.y() >= 0.0f && q.z() >= 0.0f && q.x() < fnx && q.y() < fny && q.z() < fnz))
-                        continue;
-                    const uint32_t v = (static_cast<uint32_t>(static_cast<int>(q.z())) * ny +
-                                        static_cast<uint32_t>(static_cast<int>(q.y()))) * nx +
-                                       static_cast<uint32_t>(static_cast<int>(q.x()));
-                    uint32_t& s = slot_[v];
-                    if (s == 0) {
-                        touched_[n_touched] = v;
-                        strongest_[n_touched] = intensity;
-                        s = static_cast<uint32_t>(++n_touched);
-                    } else if (strongest_[s - 1] < intensity) {
-                        strongest_[s - 1] = intensity;
-                    }
-                }
-            }
-        }
-        for (std::size_t i = 0; i < n_touched; ++i) {
-            const uint32_t v = touched_[i];
-            map.add(v, increment_ * strongest_[i] / 255.0f);
-            map.setFlag(v, VoxelMap::kFlsTouched);
-            slot_[v] = 0;
-        }
-    }
-
-private:
-    const FlsModel& model_;
-    UpdateConfig cfg_;
-    float increment_;
-    std::vector<Eigen::Vector3f> world_direction_;
-    std::vector<uint32_t> slot_;
-    std::vector<uint32_t> touched_;
-    std::vector<uint8_t> strongest_;
-};
 
 // PsCarver::apply with Eq. 13's exp(-alpha t) from a 1025-entry table with
 // linear interpolation instead of std::exp per voxel (t is in [0, 1]).
@@ -476,14 +389,9 @@ int main(int argc, char** argv) {
     Row pipeline{"voxelmap_pipeline", "FlsUpdater::apply + PsCarver::apply (geometry + walk)", p.updates};
     Row octo_user{"octomap_user", "OctoMap as users call it: coordToKey + computeRayKeys", p.updates};
     Row add_only{"diag_add_only", "diagnosis: VoxelMap::add without setFlag", p.updates};
-    Row proposed{"diag_proposed_add", "what-if: branch-free clamp, bounds in registers, + flags", p.updates};
-    std::vector<float> proposed_log_odds(map.size());
-    std::vector<uint8_t> proposed_flags(map.size());
     Row fls_now{"diag_fls_updater", "FLS frames only: FlsUpdater::apply", p.fls_updates};
-    Row fls_trunc{"diag_fls_truncate", "what-if: FlsUpdater without std::floor (bit-exact)", p.fls_updates};
     Row ps_now{"diag_ps_carver", "PS pings only: PsCarver::apply", p.ps_updates};
     Row ps_table{"diag_ps_exp_table", "what-if: PsCarver with a tabulated exp (not bit-exact)", p.ps_updates};
-    FlsTruncatingUpdater fls_truncating(fls_model, cfg.update, map);
     const PsTableCarver ps_table_carver(ps_model, cfg.update);
     VoxelMap whatif_map(cfg.map), fls_only_map(cfg.map), ps_only_map(cfg.map);
     std::unique_ptr<octomap::OcTree> octo_tree, user_tree;
@@ -498,21 +406,13 @@ int main(int argc, char** argv) {
             if (enabled("floor")) floor_row.best = std::min(floor_row.best, runFloor(s, p, floor_cells)), floor_row.ran = true;
             if (enabled("diagnosis")) {
                 add_only.best = std::min(add_only.best, runVoxelMapAddOnly(s, p, map)), add_only.ran = true;
-                proposed.best = std::min(proposed.best, runProposedAdd(s, p, map.clampMin(), map.clampMax(),
-                                                                       proposed_log_odds, proposed_flags));
-                proposed.ran = true;
             }
         }
         if (enabled("hotloops")) {
             fls_now.best = std::min(fls_now.best, runMessages(inputs, s, p, MessageRecord::Fls, fls_only_map, fls_updater, ps_carver));
-            fls_trunc.best = std::min(fls_trunc.best, runMessages(inputs, s, p, MessageRecord::Fls, whatif_map, fls_truncating, ps_carver));
-            fls_now.ran = fls_trunc.ran = true;
-            if (std::memcmp(whatif_map.logOddsData().data(), fls_only_map.logOddsData().data(), map.size() * sizeof(float)) != 0) {
-                std::fprintf(stderr, "FAIL: the FLS what-if gives a different map\n");
-                ++failures;
-            }
+            fls_now.ran = true;
             ps_now.best = std::min(ps_now.best, runMessages(inputs, s, p, MessageRecord::Ps, ps_only_map, fls_updater, ps_carver));
-            ps_table.best = std::min(ps_table.best, runMessages(inputs, s, p, MessageRecord::Ps, whatif_map, fls_truncating, ps_table_carver));
+            ps_table.best = std::min(ps_table.best, runMessages(inputs, s, p, MessageRecord::Ps, whatif_map, fls_updater, ps_table_carver));
             ps_now.ran = ps_table.ran = true;
         }
         if (enabled("octomap")) {
@@ -538,10 +438,6 @@ int main(int argc, char** argv) {
     sfbench::replayStream(s, p.updates, expected);
     if (pipeline.ran && std::memcmp(map.logOddsData().data(), expected.logOddsData().data(), map.size() * sizeof(float)) != 0) {
         std::fprintf(stderr, "FAIL: FlsUpdater+PsCarver map differs from the recorded stream's\n");
-        ++failures;
-    }
-    if (proposed.ran && std::memcmp(proposed_log_odds.data(), expected.logOddsData().data(), map.size() * sizeof(float)) != 0) {
-        std::fprintf(stderr, "FAIL: the what-if clamp gives a different map\n");
         ++failures;
     }
     if (ps_table.ran) {
@@ -574,8 +470,8 @@ int main(int argc, char** argv) {
     }
 
     std::printf("\n| stream | what | updates | best ms | Mupd/s | time / (a) |\n|---|---|---:|---:|---:|---:|\n");
-    for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user, &add_only, &proposed}) printRow(*r, voxelmap);
-    for (const Row* r : {&fls_now, &fls_trunc}) printRow(*r, fls_now);
+    for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user, &add_only}) printRow(*r, voxelmap);
+    printRow(fls_now, fls_now);
     for (const Row* r : {&ps_now, &ps_table}) printRow(*r, ps_now);
     std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags) + FlsUpdater slots %.1f MB; OcTree %.1f MB\n",
                 map.size() * 5.0 / 1e6, map.size() * 4.0 / 1e6, octo_memory / 1e6);

@@ -214,13 +214,15 @@ void recordPs(const PsModel& model, const UpdateConfig& cfg, double head_angle, 
 }  // namespace
 
 void replayStream(const UpdateStream& stream, std::size_t count, VoxelMap& map) {
-    // Local pointers: the flag store is a char store, which may alias anything,
-    // so reading through the vectors would reload their data pointers every update.
+    // VoxelMap::Writer, as FlsUpdater and PsCarver use it: the flag store is a
+    // char store, which may alias anything, so the writer keeps the map's data
+    // pointers and clamp bounds in locals.
     const VoxelUpdate* u = stream.updates.data();
     const uint8_t* flag = stream.update_flag.data();
+    VoxelMap::Writer out = map.writer();
     for (std::size_t i = 0; i < count; ++i) {
-        map.add(u[i].voxel, u[i].delta);
-        map.setFlag(u[i].voxel, flag[i]);
+        out.add(u[i].voxel, u[i].delta);
+        out.setFlag(u[i].voxel, flag[i]);
     }
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -67,12 +68,28 @@ public:
         if (psEchoCount(i) < kPsEchoMax) flags_[i] = static_cast<uint8_t>(flags_[i] + (1u << kPsEchoShift));
     }
 
-    // Eqs. 6/13 followed by the clamp of Eqs. 7-8.
+    // Eqs. 6/13 followed by the clamp of Eqs. 7-8 (min/max compiles branch-free).
     void add(std::size_t i, float delta) {
-        float l = log_odds_[i] + delta;
-        log_odds_[i] = l < clamp_min_ ? clamp_min_ : (l > clamp_max_ ? clamp_max_ : l);
+        log_odds_[i] = std::min(std::max(log_odds_[i] + delta, clamp_min_), clamp_max_);
     }
     void setFlag(std::size_t i, uint8_t flag) { flags_[i] |= flag; }
+
+    // The same updates for hot loops: the data pointers and clamp bounds live
+    // in locals, so the compiler need not reload them after every flag byte
+    // store (a byte store may alias anything). Valid while the map lives.
+    class Writer {
+    public:
+        explicit Writer(VoxelMap& m)
+            : l_(m.log_odds_.data()), f_(m.flags_.data()), lo_(m.clamp_min_), hi_(m.clamp_max_) {}
+        void add(std::size_t i, float delta) { l_[i] = std::min(std::max(l_[i] + delta, lo_), hi_); }
+        void setFlag(std::size_t i, uint8_t flag) { f_[i] |= flag; }
+
+    private:
+        float* l_;
+        uint8_t* f_;
+        float lo_, hi_;
+    };
+    [[nodiscard]] Writer writer() { return Writer(*this); }
     // Direct write, for loading a saved map; clamps like add().
     void setLogOdds(std::size_t i, float l) { log_odds_[i] = 0.0f; add(i, l); }
     void setFlags(std::size_t i, uint8_t f) { flags_[i] = f; }
