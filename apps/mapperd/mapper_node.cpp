@@ -18,6 +18,16 @@ int64_t wallUs() {
     return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
         .count();
 }
+// The waiting message with the smallest (utime, seq), or null.
+template <class P>
+P* oldestPending(std::vector<P>& slots) {
+    P* best = nullptr;
+    for (P& p : slots)
+        if (p.used && (!best || p.msg.utime < best->msg.utime ||
+                       (p.msg.utime == best->msg.utime && p.msg.seq < best->msg.seq)))
+            best = &p;
+    return best;
+}
 }  // namespace
 
 MapperNode::MapperNode(const DaemonConfig& cfg, Publisher out)
@@ -81,46 +91,36 @@ void MapperNode::onNav(const void* data, std::size_t size) {
     maybePeriodic(p.utime);
 }
 
-void MapperNode::onFls(const void* data, std::size_t size) {
-    if (guard::checkFls(data, size) != guard::Verdict::Ok) {
+template <class Msg>
+void MapperNode::enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int channel, const void* data,
+                         std::size_t size) {
+    if (!guard_ok) {
         ++rejects_[static_cast<int>(TransportReject::Malformed)];
         return;
     }
-    auto slot = std::find_if(fls_pending_.begin(), fls_pending_.end(), [](const PendingFls& p) { return !p.used; });
-    if (slot == fls_pending_.end()) {
-        flush(true);  // the buffer is full: process what waits rather than drop
+    auto is_free = [](const Pending<Msg>& p) { return !p.used; };
+    auto slot = std::find_if(slots.begin(), slots.end(), is_free);
+    if (slot == slots.end()) {
+        flush(true);  // every slot waits: process them rather than drop this one
         ++rejects_[static_cast<int>(TransportReject::PendingOverflow)];
-        slot = std::find_if(fls_pending_.begin(), fls_pending_.end(), [](const PendingFls& p) { return !p.used; });
+        slot = std::find_if(slots.begin(), slots.end(), is_free);
     }
     if (slot->msg.decode(data, 0, static_cast<int>(size)) < 0) {
         ++rejects_[static_cast<int>(TransportReject::Malformed)];
         return;
     }
-    trackSeq(kFls, slot->msg.seq);
+    trackSeq(channel, slot->msg.seq);
     slot->used = true;
     slot->arrival_wall_us = wallUs();
     flush(false);
 }
 
+void MapperNode::onFls(const void* data, std::size_t size) {
+    enqueue(fls_pending_, guard::checkFls(data, size) == guard::Verdict::Ok, kFls, data, size);
+}
+
 void MapperNode::onPs(const void* data, std::size_t size) {
-    if (guard::checkPs(data, size) != guard::Verdict::Ok) {
-        ++rejects_[static_cast<int>(TransportReject::Malformed)];
-        return;
-    }
-    auto slot = std::find_if(ps_pending_.begin(), ps_pending_.end(), [](const PendingPs& p) { return !p.used; });
-    if (slot == ps_pending_.end()) {
-        flush(true);
-        ++rejects_[static_cast<int>(TransportReject::PendingOverflow)];
-        slot = std::find_if(ps_pending_.begin(), ps_pending_.end(), [](const PendingPs& p) { return !p.used; });
-    }
-    if (slot->msg.decode(data, 0, static_cast<int>(size)) < 0) {
-        ++rejects_[static_cast<int>(TransportReject::Malformed)];
-        return;
-    }
-    trackSeq(kPs, slot->msg.seq);
-    slot->used = true;
-    slot->arrival_wall_us = wallUs();
-    flush(false);
+    enqueue(ps_pending_, guard::checkPs(data, size) == guard::Verdict::Ok, kPs, data, size);
 }
 
 // Sonar messages are processed only once a NAV strictly after them has arrived
@@ -128,16 +128,8 @@ void MapperNode::onPs(const void* data, std::size_t size) {
 // depends on how the transport interleaved the channels.
 void MapperNode::flush(bool force) {
     for (;;) {
-        PendingPs* ps = nullptr;
-        for (auto& p : ps_pending_)
-            if (p.used && (!ps || p.msg.utime < ps->msg.utime ||
-                           (p.msg.utime == ps->msg.utime && p.msg.seq < ps->msg.seq)))
-                ps = &p;
-        PendingFls* fls = nullptr;
-        for (auto& p : fls_pending_)
-            if (p.used && (!fls || p.msg.utime < fls->msg.utime ||
-                           (p.msg.utime == fls->msg.utime && p.msg.seq < fls->msg.seq)))
-                fls = &p;
+        PendingPs* ps = oldestPending(ps_pending_);
+        PendingFls* fls = oldestPending(fls_pending_);
         if (!ps && !fls) return;
         const bool take_ps = ps && (!fls || ps->msg.utime <= fls->msg.utime);
         const int64_t utime = take_ps ? ps->msg.utime : fls->msg.utime;

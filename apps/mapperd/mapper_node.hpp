@@ -57,16 +57,19 @@ public:
     [[nodiscard]] const mapper_status_t& status();
 
 private:
-    struct PendingFls {
-        fls_image_t msg;
+    // A sonar message waiting for NAV to bracket it, decoded in place.
+    template <class Msg>
+    struct Pending {
+        Msg msg;
         bool used = false;
         int64_t arrival_wall_us = 0;
     };
-    struct PendingPs {
-        ps_ping_t msg;
-        bool used = false;
-        int64_t arrival_wall_us = 0;
-    };
+    using PendingFls = Pending<fls_image_t>;
+    using PendingPs = Pending<ps_ping_t>;
+
+    // Guard verdict, free slot (flushing if all are taken), decode, seq tracking.
+    template <class Msg>
+    void enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int channel, const void* data, std::size_t size);
 
     void onNav(const void* data, std::size_t size);
     void onFls(const void* data, std::size_t size);
