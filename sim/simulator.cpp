@@ -21,6 +21,19 @@ double Simulator::altitudeBelow(const Pose& vehicle) const {
     return hit.hit ? hit.range : -1.0;
 }
 
+namespace {
+// The mounting fields FLS and PS messages share.
+template <class Msg>
+void setMounting(Msg& msg, const Mounting& m, double tilt) {
+    msg.mount_xyz[0] = static_cast<float>(m.x);
+    msg.mount_xyz[1] = static_cast<float>(m.y);
+    msg.mount_xyz[2] = static_cast<float>(m.z);
+    msg.mount_roll_yaw[0] = static_cast<float>(m.roll);
+    msg.mount_roll_yaw[1] = static_cast<float>(m.yaw);
+    msg.tilt = static_cast<float>(tilt);
+}
+}  // namespace
+
 fls_image_t Simulator::flsMessage(const SequenceState& q, const FlsImage& image) const {
     const FlsGeometry& g = scenario_.fls;
     const Mounting& m = scenario_.fls_mount;
@@ -31,12 +44,7 @@ fls_image_t Simulator::flsMessage(const SequenceState& q, const FlsImage& image)
     msg.sensor_name = scenario_.fls_sim.name;
     msg.sound_speed = static_cast<float>(scenario_.fls_sim.sound_speed);
     msg.frequency_hz = static_cast<float>(scenario_.fls_sim.frequency_hz);
-    msg.mount_xyz[0] = static_cast<float>(m.x);
-    msg.mount_xyz[1] = static_cast<float>(m.y);
-    msg.mount_xyz[2] = static_cast<float>(m.z);
-    msg.mount_roll_yaw[0] = static_cast<float>(m.roll);
-    msg.mount_roll_yaw[1] = static_cast<float>(m.yaw);
-    msg.tilt = static_cast<float>(g.tilt);
+    setMounting(msg, m, g.tilt);
     msg.elevation_min = static_cast<float>(g.elevation_min);
     msg.elevation_max = static_cast<float>(g.elevation_max);
     msg.num_beams = model.cols();
@@ -55,12 +63,7 @@ ps_ping_t Simulator::psMessage(const SequenceState& q, std::vector<uint8_t> inte
     msg.utime = q.utime;
     msg.seq = q.index;
     msg.sensor_name = scenario_.ps_sim.name;
-    msg.mount_xyz[0] = static_cast<float>(m.x);
-    msg.mount_xyz[1] = static_cast<float>(m.y);
-    msg.mount_xyz[2] = static_cast<float>(m.z);
-    msg.mount_roll_yaw[0] = static_cast<float>(m.roll);
-    msg.mount_roll_yaw[1] = static_cast<float>(m.yaw);
-    msg.tilt = static_cast<float>(g.tilt);
+    setMounting(msg, m, g.tilt);
     msg.head_angle = static_cast<float>(q.head_angle);
     msg.fan_min = static_cast<float>(g.fan_min);
     msg.fan_max = static_cast<float>(g.fan_max);
