@@ -62,8 +62,15 @@ MapperNode::MapperNode(const DaemonConfig& cfg, Publisher out)
     snapshot_msg_.flags.reserve(voxels);
 }
 
+// Counters and time stamps come off the network: differences are taken in
+// unsigned arithmetic (well defined for any pair once ordered) and sums saturate.
 void MapperNode::trackSeq(int channel, int64_t seq) {
-    if (last_seq_[channel] >= 0 && seq > last_seq_[channel] + 1) gaps_[channel] += seq - last_seq_[channel] - 1;
+    const int64_t last = last_seq_[channel];
+    if (last >= 0 && seq > last) {
+        const uint64_t missed = static_cast<uint64_t>(seq) - static_cast<uint64_t>(last) - 1u;
+        const uint64_t room = static_cast<uint64_t>(INT64_MAX - gaps_[channel]);
+        gaps_[channel] += static_cast<int64_t>(std::min(missed, room));
+    }
     last_seq_[channel] = seq;
 }
 
@@ -218,7 +225,10 @@ double MapperNode::p99Us() const {
 void MapperNode::maybePeriodic(int64_t utime) {
     auto due = [&](int64_t& last, double period_s) {
         if (period_s <= 0.0) return false;
-        if (last == INT64_MIN || utime - last >= static_cast<int64_t>(period_s * 1e6)) {
+        // Due on the first call, when data time went backwards (a new log), or
+        // when a period has passed.
+        if (last == INT64_MIN || utime < last ||
+            static_cast<uint64_t>(utime) - static_cast<uint64_t>(last) >= static_cast<uint64_t>(period_s * 1e6)) {
             last = utime;
             return true;
         }

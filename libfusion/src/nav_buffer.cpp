@@ -38,7 +38,9 @@ PoseLookup NavBuffer::poseAt(int64_t utime, Pose& out) const {
         return PoseLookup::Ok;
     }
     const TimedPose& before = at(lo - 1);  // lo > 0 because utime > at(0).utime here
-    if (after.utime - before.utime > max_gap_us_) return PoseLookup::GapTooLarge;
+    // Unsigned difference: utimes come off the network and may be anything.
+    if (static_cast<uint64_t>(after.utime) - static_cast<uint64_t>(before.utime) > static_cast<uint64_t>(max_gap_us_))
+        return PoseLookup::GapTooLarge;
     out = interpolate(before, after, utime);
     return PoseLookup::Ok;
 }

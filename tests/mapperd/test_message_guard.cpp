@@ -86,3 +86,69 @@ TEST(MessageGuard, TruncationsAndRandomBytesNeverCrashTheNode) {
     EXPECT_GT(node.transportRejects(TransportReject::Malformed), 0);
     for (float l : node.mapper().map().logOddsData()) ASSERT_EQ(l, 0.0f);
 }
+
+// Structure-aware mutation: start from valid encodings and flip bytes, cut,
+// extend and rewrite array counts. Whatever the guard accepts, lcm-gen's
+// decode must take without throwing; whatever it refuses is counted.
+TEST(MessageGuard, MutatedValidMessagesAreAcceptedOnlyWhenDecodable) {
+    ps_ping_t ps{};
+    ps.num_bins = 500;
+    ps.intensity.assign(500, 7);
+    nav_state_t nav{};
+    const std::vector<std::vector<uint8_t>> seeds = {encode(validFls()), encode(ps), encode(nav)};
+    const char* channels[] = {"FLS", "PS", "NAV"};
+    DaemonConfig cfg;
+    MapperNode node(cfg, {});
+    std::mt19937 rng(11);
+    int accepted = 0, refused = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const int which = trial % 3;
+        std::vector<uint8_t> m = seeds[which];
+        switch (rng() % 4) {
+            case 0:  // flip a few bytes anywhere after the fingerprint
+                for (int k = 0; k < 1 + static_cast<int>(rng() % 4); ++k) m[8 + rng() % (m.size() - 8)] ^= static_cast<uint8_t>(1 + rng() % 255);
+                break;
+            case 1:  // cut
+                m.resize(rng() % m.size());
+                break;
+            case 2:  // extend
+                m.resize(m.size() + 1 + rng() % 64, static_cast<uint8_t>(rng()));
+                break;
+            default:  // rewrite a 4-byte window as a random count
+                if (m.size() > 12) putInt32(m, 8 + rng() % (m.size() - 12), static_cast<int32_t>(rng()));
+        }
+        const guard::Verdict v = which == 0   ? guard::checkFls(m.data(), m.size())
+                                 : which == 1 ? guard::checkPs(m.data(), m.size())
+                                              : guard::checkNav(m.data(), m.size());
+        if (v == guard::Verdict::Ok) {
+            ++accepted;
+            int rc = -1;
+            ASSERT_NO_THROW({
+                if (which == 0) rc = fls_image_t{}.decode(m.data(), 0, static_cast<int>(m.size()));
+                else if (which == 1) rc = ps_ping_t{}.decode(m.data(), 0, static_cast<int>(m.size()));
+                else rc = nav_state_t{}.decode(m.data(), 0, static_cast<int>(m.size()));
+            }) << "trial " << trial;
+            EXPECT_EQ(rc, static_cast<int>(m.size())) << "the guard accepted bytes decode does not consume exactly";
+        } else {
+            ++refused;
+        }
+        node.handle(channels[which], m.data(), m.size());
+    }
+    node.flush(true);
+    EXPECT_GT(accepted, 1000);  // byte flips inside data arrays stay valid messages
+    EXPECT_GT(refused, 1000);
+    EXPECT_EQ(node.transportRejects(TransportReject::Malformed), refused);
+}
+
+TEST(MapperNode, HostileSequenceNumbersSaturateTheGapCounter) {
+    DaemonConfig cfg;
+    MapperNode node(cfg, {});
+    for (int64_t seq : {int64_t{0}, INT64_MAX, int64_t{1}, INT64_MAX}) {
+        nav_state_t n{};
+        n.seq = seq;
+        n.utime = seq;  // hostile time stamps too
+        const auto bytes = encode(n);
+        node.handle("NAV", bytes.data(), bytes.size());
+    }
+    EXPECT_EQ(node.seqGaps(0), INT64_MAX);  // saturated, never wrapped negative
+}

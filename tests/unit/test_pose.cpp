@@ -66,3 +66,12 @@ TEST(NavBuffer, RingKeepsNewestAndRejectsDisorder) {
     bad.pose.roll = std::numeric_limits<double>::infinity();
     EXPECT_EQ(nav.add(bad), NavBuffer::AddResult::NonFinite);
 }
+
+TEST(NavBuffer, ExtremeTimeStampsNeverOverflowIntoAFalseBracket) {
+    // Time stamps come off the network; their difference must not wrap.
+    NavBuffer nav(8, 1000);
+    ASSERT_EQ(nav.add(test::poseAt(INT64_MIN + 5, 0, 0, 0)), NavBuffer::AddResult::Ok);
+    ASSERT_EQ(nav.add(test::poseAt(INT64_MAX - 5, 1, 0, 0)), NavBuffer::AddResult::Ok);
+    Pose out;
+    EXPECT_EQ(nav.poseAt(0, out), PoseLookup::GapTooLarge);
+}
