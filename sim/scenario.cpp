@@ -230,6 +230,7 @@ void readNoise(const YAML::Node& node, Scenario& s) {
     n.scatterers = f.get("scatterers", n.scatterers);
     n.coherent_fraction = f.get("coherent_fraction", n.coherent_fraction);
     n.floor = f.get("floor", n.floor);
+    n.follows_pose = f.get("follows_pose", n.follows_pose);
     f.rejectUnknownKeys();
     check(n.scatterers >= 1 && n.scatterers <= 1024, "noise.scatterers", "must be in 1..1024");
     check(n.coherent_fraction >= 0.0 && n.coherent_fraction <= 1.0, "noise.coherent_fraction", "must be in 0..1");

@@ -68,6 +68,9 @@ struct NoiseSpec {
     int scatterers = 8;              // random-phase scatterers per pixel
     double coherent_fraction = 0.2;  // share of the echo power that is coherent (no speckle)
     double floor = 10.0;             // rms of the additive water noise, in 8-bit counts
+    // Draw the noise from the sensor pose (and PS head angle) instead of the
+    // sequence number: a vehicle holding still then sees the same speckle.
+    bool follows_pose = false;
 };
 
 struct StraightPass {

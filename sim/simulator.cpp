@@ -1,6 +1,7 @@
 #include "simulator.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "parallel.hpp"
 
@@ -74,6 +75,21 @@ ps_ping_t Simulator::psMessage(const SequenceState& q, std::vector<uint8_t> inte
     return msg;
 }
 
+namespace {
+// A noise key from the pose, quantised to 1 mm and 1e-4 rad, so the speckle
+// repeats exactly while the vehicle (and the PS head) hold still.
+int64_t poseNoiseKey(const Pose& pose, double head_angle) {
+    const double parts[] = {pose.position.x() * 1e3, pose.position.y() * 1e3, pose.position.z() * 1e3,
+                            pose.roll * 1e4,         pose.pitch * 1e4,        pose.yaw * 1e4, head_angle * 1e4};
+    uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (double v : parts) {
+        const uint64_t q = static_cast<uint64_t>(static_cast<int64_t>(std::llround(v)));
+        h ^= q + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+    }
+    return static_cast<int64_t>(h >> 1);
+}
+}  // namespace
+
 SequenceOutput Simulator::simulate(const SequenceState& q, int threads) const {
     SequenceOutput out;
     out.state = q;
@@ -89,9 +105,12 @@ SequenceOutput Simulator::simulate(const SequenceState& q, int threads) const {
     nav.rpy[2] = q.pose.yaw;
     nav.altitude = altitudeBelow(q.pose);
 
-    out.ps = psMessage(q, ps_->ping(q.pose, q.head_angle, q.index));
+    const bool by_pose = scenario_.noise.follows_pose;
+    const int64_t ps_key = by_pose ? poseNoiseKey(q.pose, q.head_angle) : q.index;
+    const int64_t fls_key = by_pose ? poseNoiseKey(q.pose, 0.0) : q.index;
+    out.ps = psMessage(q, ps_->ping(q.pose, q.head_angle, ps_key));
     out.has_fls = q.has_fls;
-    if (q.has_fls) out.fls = flsMessage(q, fls_->render(q.pose, q.index, threads));
+    if (q.has_fls) out.fls = flsMessage(q, fls_->render(q.pose, fls_key, threads));
     return out;
 }
 

@@ -59,7 +59,7 @@ std::string TinyScenario::yaml() const {
     for (std::string line; std::getline(lines, line);) y << "    " << line << "\n";
     y << "noise: " << noise << "\n";
     y << "trajectory:\n  passes:\n    - {heading_deg: 0, altitude: " << altitude
-      << ", step: 0.01, sequences: " << sequences << ", start_offset: 0}\n";
+      << ", step: " << step << ", sequences: " << sequences << ", start_offset: 0}\n";
     y << extra;
     return y.str();
 }

@@ -37,6 +37,7 @@ void writeText(const std::string& path, const std::string& text);
 struct TinyScenario {
     std::string meshes;  // e.g. "- {file: plane.obj, role: seabed}\n"
     double altitude = 3.0;
+    double step = 0.01;  // m per sequence; 0 holds the vehicle still
     int sequences = 8;
     std::string noise = "{speckle: false, floor: 0}";
     std::string extra;   // appended top-level YAML (fls:, ps:, seed: ...)

@@ -135,6 +135,30 @@ TEST_F(DeterminismTest, LivePublishingSendsTheLogsBytes) {
     EXPECT_EQ(live.failures(), 0);
 }
 
+TEST_F(DeterminismTest, SpeckleFollowsThePoseWhenAsked) {
+    // A vehicle holding still: FLS frames 0 and 4 see the same scene.
+    auto frames = [&](bool follows_pose) {
+        TinyScenario t;
+        t.meshes = "- {file: plane.obj, role: seabed}\n- {file: box.obj, role: object}\n";
+        t.step = 0.0;
+        t.sequences = 5;
+        t.noise = std::string("{speckle: true, floor: 10, follows_pose: ") + (follows_pose ? "true" : "false") + "}";
+        t.extra = "seed: 3\nfls: {rays_elevation: 64}\n";
+        const Simulator sim(loadScenarioFromString(t.yaml(), dir.path()));
+        std::vector<std::vector<uint8_t>> out;
+        sim.run(1, -1, [&](const SequenceOutput& o) {
+            if (o.has_fls) out.push_back(o.fls.data);
+        });
+        return out;
+    };
+    const auto still = frames(true);
+    ASSERT_EQ(still.size(), 2u);
+    EXPECT_EQ(still[0], still[1]);  // same pose, same speckle
+    const auto redrawn = frames(false);
+    ASSERT_EQ(redrawn.size(), 2u);
+    EXPECT_NE(redrawn[0], redrawn[1]);  // default: fresh speckle every ping
+}
+
 TEST_F(DeterminismTest, SequenceCountersPerChannel) {
     const auto events = readLog(simulate(7, 2, "a.lcmlog"));
     int64_t nav = 0, ps = 0, fls = 0;
