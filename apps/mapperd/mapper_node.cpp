@@ -4,6 +4,7 @@
 #include <cmath>
 #include <spdlog/spdlog.h>
 
+#include "message_convert.hpp"
 #include "message_guard.hpp"
 #include "sonarfusion/variant.hpp"
 
@@ -87,12 +88,7 @@ void MapperNode::onNav(const void* data, std::size_t size) {
         return;
     }
     trackSeq(kNav, nav_msg_.seq);
-    TimedPose p;
-    p.utime = nav_msg_.utime;
-    p.pose.position = Eigen::Vector3d(nav_msg_.position_ned[0], nav_msg_.position_ned[1], nav_msg_.position_ned[2]);
-    p.pose.roll = nav_msg_.rpy[0];
-    p.pose.pitch = nav_msg_.rpy[1];
-    p.pose.yaw = nav_msg_.rpy[2];
+    const TimedPose p = timedPoseOf(nav_msg_);
     if (mapper_.addNav(p) == Outcome::Used) newest_nav_utime_ = p.utime;
     flush(false);
     maybePeriodic(p.utime);

@@ -1,5 +1,7 @@
 #include "update_stream.hpp"
 
+#include "message_convert.hpp"
+
 #include <lcm/lcm-cpp.hpp>
 #include <sonarfusion/fls_image_t.hpp>
 #include <sonarfusion/nav_state_t.hpp>
@@ -27,13 +29,7 @@ ScenarioLog loadScenarioLog(const std::string& path, const DaemonConfig& cfg) {
         const int len = static_cast<int>(ev->datalen);
         if (ev->channel == cfg.nav_channel) {
             if (nav.decode(ev->data, 0, len) < 0) throw std::runtime_error(path + ": bad NAV message");
-            TimedPose p;
-            p.utime = nav.utime;
-            p.pose.position = Eigen::Vector3d(nav.position_ned[0], nav.position_ned[1], nav.position_ned[2]);
-            p.pose.roll = nav.rpy[0];
-            p.pose.pitch = nav.rpy[1];
-            p.pose.yaw = nav.rpy[2];
-            log.nav.push_back(p);
+            log.nav.push_back(timedPoseOf(nav));
         } else if (ev->channel == cfg.fls_channel) {
             if (fls.decode(ev->data, 0, len) < 0) throw std::runtime_error(path + ": bad FLS message");
             FlsMessage m;
