@@ -39,6 +39,7 @@ SceneTruth makeSceneTruth(const std::string& name, const std::vector<std::string
     occluders.insert(occluders.end(), scene.seabed.begin(), scene.seabed.end());
     scene.samples = sampleVisibleSurface(scene.objects, occluders, runs, options);
     for (const auto& r : runs) scene.run_names.push_back(r.name);
+    scene.objects_true = countObjects(scene.objects);
     return scene;
 }
 

@@ -19,6 +19,7 @@ struct SceneTruth {
     std::vector<TriangleMesh> objects, seabed;
     std::vector<SurfaceSample> samples;   // object surface with per-run visibility
     std::vector<std::string> run_names;   // bit k of seen_by = run_names[k]
+    int objects_true = 0;                 // separate objects in the object meshes (countObjects)
     Eigen::Vector3d along_track = Eigen::Vector3d::UnitX();
     std::optional<double> declared_face_angle_deg;  // from the scenario, if given
 };

@@ -4,6 +4,8 @@
 //   sf-eval --scenario FILE --maps-dir DIR   (every readable map file in DIR)
 #include <CLI/CLI.hpp>
 
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -50,6 +52,10 @@ std::vector<MapInput> mapsInDir(const std::string& dir) {
     return found;
 }
 
+double seconds(std::chrono::steady_clock::time_point since) {
+    return std::round(std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count() * 100.0) / 100.0;
+}
+
 // Paper order: fls_only, carve_only, paper, fused.
 int variantRank(const std::string& v) {
     const auto parsed = parseVariant(v);
@@ -79,6 +85,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-ply", no_ply, "figures only, no PLY point clouds");
     app.add_option("--sample-spacing", vis.sample_spacing, "m between visibility samples on the object surface")
         ->capture_default_str();
+    app.add_option("--threads", vis.threads, "threads for the visibility pass (same result for any count)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 64));
     app.add_option("--face-window", face.outward_window, "m in front of a true end face searched for its voxels")
         ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
@@ -95,10 +104,14 @@ int main(int argc, char** argv) {
         if (!config_path.empty()) base_config = loadDaemonConfig(config_path).mapper;
 #endif
         const EvalScenario scenario = loadEvalScenario(scenario_path);
-        if (scenario.object_meshes.empty()) throw std::runtime_error("scenario has no object mesh");
+        if (scenario.object_meshes.empty())
+            std::cerr << "sf-eval: " << scenario.name << " has no object mesh: every predicted object is false\n";
         std::cerr << "sf-eval: ground truth and visibility for " << scenario.name << " ...\n";
+        const auto t0 = std::chrono::steady_clock::now();
         const SceneTruth scene = makeSceneTruth(scenario.name, scenario.object_meshes, scenario.seabed_meshes,
                                                 scenario.runs, scenario.along_track, vis);
+        std::cerr << "sf-eval: " << scene.samples.size() << " surface samples, " << scene.objects_true
+                  << " true object(s), " << seconds(t0) << " s\n";
         SceneTruth scored_scene = scene;
         scored_scene.declared_face_angle_deg = scenario.declared_face_angle_deg;
 
@@ -123,8 +136,10 @@ int main(int argc, char** argv) {
             for (const auto& t : truths)
                 if (t->grid == grid) l.truth = t;
             if (!l.truth) {
+                const auto t1 = std::chrono::steady_clock::now();
                 l.truth = std::make_shared<GroundTruth>(groundTruthInGrid(scene, grid));
                 truths.push_back(l.truth);
+                std::cerr << "sf-eval: ground-truth voxels in the grid of " << in.path << ", " << seconds(t1) << " s\n";
             }
             l.prediction = segmentMap(*l.map, *variant, base_config, scenario.track_axis);
             l.score = scorePrediction(grid, l.prediction, *l.truth, scored_scene, face);

@@ -48,6 +48,7 @@ VariantScore scorePrediction(const GridSpec& grid, const Prediction& prediction,
     else if (n_truth > 0) s.true_face_angle_deg = truth_sum / n_truth;
     s.segmentation = prediction.stats;
     s.objects = prediction.stats.objects;
+    s.objects_true = scene.objects_true;
     return s;
 }
 

@@ -40,7 +40,8 @@ struct VariantScore {
     std::optional<double> face_angle_deg;  // mean of the faces that have an angle
     std::optional<double> true_face_angle_deg;
     SegmentationStats segmentation;
-    int objects = 0;
+    int objects = 0;       // predicted (segmentation)
+    int objects_true = 0;  // in the scene's object meshes (SceneTruth::objects_true)
 };
 
 [[nodiscard]] VariantScore scorePrediction(const GridSpec& grid, const Prediction& prediction, const GroundTruth& gt,

@@ -49,18 +49,21 @@ Metrics computeMetrics(const GridSpec& grid, const VoxelMask& predicted, const V
         }
     }
     const double voxel_cm = grid.resolution * 100.0;
-    if (c.predicted > 0) {
+    // Without a true object (bare seabed) every predicted voxel is false: only
+    // the false volume is defined, precision, IoU and Chamfer are null.
+    if (c.predicted > 0 && c.truth > 0) {
         m.precision = static_cast<double>(c.predicted_correct) / static_cast<double>(c.predicted);
-        m.false_slope_m3 = static_cast<double>(c.predicted - c.predicted_correct) * std::pow(grid.resolution, 3);
-        if (c.truth > 0) m.chamfer_pred_to_gt_cm = sum_pred_to_gt / static_cast<double>(c.predicted) * voxel_cm;
+        m.chamfer_pred_to_gt_cm = sum_pred_to_gt / static_cast<double>(c.predicted) * voxel_cm;
     }
+    if (c.predicted > 0)
+        m.false_slope_m3 = static_cast<double>(c.predicted - c.predicted_correct) * std::pow(grid.resolution, 3);
     if (c.visible_surface > 0) {
         m.recall_visible = static_cast<double>(c.recalled) / static_cast<double>(c.visible_surface);
         if (c.predicted > 0) m.chamfer_gt_to_pred_cm = sum_gt_to_pred / static_cast<double>(c.visible_surface) * voxel_cm;
     }
     if (m.chamfer_pred_to_gt_cm && m.chamfer_gt_to_pred_cm)
         m.chamfer_cm = 0.5 * (*m.chamfer_pred_to_gt_cm + *m.chamfer_gt_to_pred_cm);
-    if (union_count > 0) m.iou = static_cast<double>(c.intersection) / static_cast<double>(union_count);
+    if (c.truth > 0 && union_count > 0) m.iou = static_cast<double>(c.intersection) / static_cast<double>(union_count);
     return m;
 }
 

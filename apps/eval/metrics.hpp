@@ -11,7 +11,9 @@
 //   chamfer        = mean over P of dist(p, G) (pred->gt), mean over V of
 //                    dist(v, P) (gt->pred), and the mean of the two, in cm
 //   false_slope    = |P| - |correct| voxels times the voxel volume, m^3
-// A value is empty (JSON null) when its denominator set is empty.
+// A value is empty (JSON null) when its denominator set is empty; with no true
+// object (G empty) precision, recall, IoU and Chamfer are all null and only
+// false_slope (every predicted voxel) is given.
 #pragma once
 
 #include <cstddef>

@@ -41,7 +41,8 @@ json variantJson(const VariantScore& s) {
                    {"recalled_voxels", c.recalled},
                    {"occupied_voxels", s.segmentation.occupied_voxels},
                    {"unconfirmed_voxels", s.segmentation.unconfirmed_voxels},
-                   {"objects", s.objects}};
+                   {"objects", s.objects},
+                   {"objects_true", s.objects_true}};
     json face_points = json::array();
     for (const FaceAngle& f : s.faces) face_points.push_back(f.points);
     j["counts"]["face_fit_voxels"] = face_points;
@@ -116,6 +117,7 @@ std::string scoreTable(const std::vector<VariantScore>& scores) {
     row("face_angle_true_deg", [](const VariantScore& s) { return s.true_face_angle_deg; }, 1);
     row("predicted_voxels", [](const VariantScore& s) { return Opt(static_cast<double>(s.metrics.counts.predicted)); }, 0);
     row("objects", [](const VariantScore& s) { return Opt(static_cast<double>(s.objects)); }, 0);
+    row("objects_true", [](const VariantScore& s) { return Opt(static_cast<double>(s.objects_true)); }, 0);
     return o.str();
 }
 

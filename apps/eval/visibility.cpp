@@ -7,7 +7,10 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 namespace sonarfusion::eval {
 
@@ -21,18 +24,44 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Point toPoint(const Eigen::Vector3d& v) { return Point(v.x(), v.y(), v.z()); }
 
-// Centroids of the n*n sub-triangles of a regular subdivision: all strictly
-// inside the triangle, about `spacing` apart.
+// Samples about `spacing` apart, all strictly inside the triangle.
+//  - Normally the centroids of the n*n sub-triangles of a regular subdivision,
+//    n = ceil(longest edge / spacing).
+//  - A sliver (long and thin) would get n*n samples on a tiny area: when that
+//    is more than kMaxOversampling times the count of spacing-sided equilateral
+//    triangles its area holds, it is sampled in rows instead: rows parallel to
+//    its longest edge, `spacing` apart across it, points `spacing` apart along
+//    each row (cell centres), so the count follows the area.
+constexpr double kMaxOversampling = 4.0;
+
 void sampleTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double spacing,
                     std::vector<SurfaceSample>& out) {
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const double ab = (b - a).norm(), bc = (c - b).norm(), ca = (a - c).norm();
+    const double longest = std::max({ab, bc, ca});
     const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
-    const Eigen::Vector3d u = (b - a) / n, v = (c - a) / n;
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; i + j < n; ++j) {
-            out.push_back({a + (i + 1.0 / 3.0) * u + (j + 1.0 / 3.0) * v, 0});
-            if (i + j < n - 1) out.push_back({a + (i + 2.0 / 3.0) * u + (j + 2.0 / 3.0) * v, 0});
-        }
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    const double equilateral = std::sqrt(3.0) / 4.0 * spacing * spacing;
+    if (static_cast<double>(n) * n <= kMaxOversampling * std::max(1.0, area / equilateral)) {
+        const Eigen::Vector3d u = (b - a) / n, v = (c - a) / n;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; i + j < n; ++j) {
+                out.push_back({a + (i + 1.0 / 3.0) * u + (j + 1.0 / 3.0) * v, 0});
+                if (i + j < n - 1) out.push_back({a + (i + 2.0 / 3.0) * u + (j + 2.0 / 3.0) * v, 0});
+            }
+        return;
+    }
+    // Sliver: p, q = the longest edge, r = the opposite vertex.
+    const Eigen::Vector3d *p = &a, *q = &b, *r = &c;
+    if (bc == longest) p = &b, q = &c, r = &a;
+    else if (ca == longest) p = &c, q = &a, r = &b;
+    const double height = 2.0 * area / longest;
+    const int rows = std::max(1, static_cast<int>(std::ceil(height / spacing)));
+    for (int j = 0; j < rows; ++j) {
+        const double t = (j + 0.5) / rows;  // 0 on the longest edge, 1 at r
+        const Eigen::Vector3d from = *p + t * (*r - *p), to = *q + t * (*r - *q);
+        const int m = std::max(1, static_cast<int>(std::ceil((1.0 - t) * longest / spacing)));
+        for (int k = 0; k < m; ++k) out.push_back({from + (k + 0.5) / m * (to - from), 0});
+    }
 }
 
 std::vector<SensorPose> thinned(const std::vector<SensorPose>& poses, double spacing) {
@@ -67,6 +96,115 @@ bool SensorFov::contains(const Eigen::Vector3d& p) const {
     return elevation >= elevation_min && elevation <= elevation_max;
 }
 
+namespace {
+
+// A cheap, conservative pre-test of SensorFov::contains (never rejects a point
+// contains() accepts: every bound is widened by kSlack), so the exact test with
+// its atan2 calls runs only on the few candidates that pass.
+class FovPrefilter {
+public:
+    explicit FovPrefilter(const SensorFov& f) {
+        r2_min_ = f.range_min > 0 ? f.range_min * f.range_min * (1.0 - kSlack) : -1.0;
+        r2_max_ = f.range_max * f.range_max * (1.0 + kSlack);
+        bearing_ = f.bearing_max - f.bearing_min < M_PI - 2.0 * kSlack;
+        if (bearing_) {
+            lo_ = {std::cos(f.bearing_min - kSlack), std::sin(f.bearing_min - kSlack)};
+            hi_ = {std::cos(f.bearing_max + kSlack), std::sin(f.bearing_max + kSlack)};
+        }
+        const double e_lo = f.elevation_min - kSlack, e_hi = f.elevation_max + kSlack;
+        elevation_lo_ = e_lo > -M_PI / 2 + kSlack;
+        elevation_hi_ = e_hi < M_PI / 2 - kSlack;
+        if (elevation_lo_) tan_lo_ = std::tan(e_lo);
+        if (elevation_hi_) tan_hi_ = std::tan(e_hi);
+    }
+    [[nodiscard]] bool mayContain(const Eigen::Vector3d& p) const {
+        const double r2 = p.squaredNorm();
+        if (r2 > r2_max_ || r2 < r2_min_) return false;
+        if (bearing_) {
+            // bearing in [lo, hi] (span < pi): p is left of lo's ray and right of hi's
+            if (lo_.x() * p.y() - lo_.y() * p.x() < 0.0) return false;
+            if (p.x() * hi_.y() - p.y() * hi_.x() < 0.0) return false;
+        }
+        const double h = std::sqrt(p.x() * p.x() + p.y() * p.y());
+        if (elevation_lo_ && p.z() < h * tan_lo_ - kSlack * (h + std::abs(p.z()))) return false;
+        if (elevation_hi_ && p.z() > h * tan_hi_ + kSlack * (h + std::abs(p.z()))) return false;
+        return true;
+    }
+
+private:
+    static constexpr double kSlack = 1e-6;  // rad, and relative
+    double r2_min_ = 0, r2_max_ = 0;
+    bool bearing_ = false, elevation_lo_ = false, elevation_hi_ = false;
+    Eigen::Vector2d lo_ = Eigen::Vector2d::Zero(), hi_ = Eigen::Vector2d::Zero();
+    double tan_lo_ = 0, tan_hi_ = 0;
+};
+
+struct PreparedRun {
+    const SensorRun* run = nullptr;
+    FovPrefilter prefilter;
+    std::vector<SensorPose> poses;  // thinned
+};
+
+// Line of sight with a few exact shortcuts, all with the same CGAL predicate
+// (Kernel::do_intersect of a Segment_3 and a Triangle_3) the AABB tree uses,
+// so the answer is exactly tree.do_intersect's:
+//  - the triangles that blocked the last sight lines are tried first
+//    (neighbouring samples and poses are mostly blocked by the same face);
+//  - otherwise the tree is asked for any blocking triangle, which is remembered.
+class SightTester {
+public:
+    SightTester(const Tree& tree, const std::vector<Triangle>& triangles) : tree_(tree), triangles_(triangles) {}
+
+    [[nodiscard]] bool blocked(const Segment& s) {
+        for (std::size_t k = 0; k < kCache; ++k) {
+            const std::size_t id = cache_[k];
+            if (id != kNone && CGAL::do_intersect(s, triangles_[id])) return true;
+        }
+        const auto hit = tree_.any_intersected_primitive(s);
+        if (!hit) return false;
+        cache_[next_] = static_cast<std::size_t>(*hit - triangles_.begin());
+        next_ = (next_ + 1) % kCache;
+        return true;
+    }
+
+private:
+    static constexpr std::size_t kCache = 4;
+    static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+    const Tree& tree_;
+    const std::vector<Triangle>& triangles_;
+    std::size_t cache_[kCache] = {kNone, kNone, kNone, kNone};
+    std::size_t next_ = 0;
+};
+
+// Sets bit k of every sample in [begin, end) that run k sees.
+void testSamples(std::vector<SurfaceSample>& samples, std::size_t begin, std::size_t end,
+                 const std::vector<PreparedRun>& runs, SightTester& sight, const VisibilityOptions& options) {
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+        const PreparedRun& pr = runs[k];
+        const std::size_t n = pr.poses.size();
+        std::size_t start = 0;  // the pose that saw the previous sample: try it first
+        for (std::size_t i = begin; i < end; ++i) {
+            SurfaceSample& s = samples[i];
+            for (std::size_t step = 0; step < n; ++step) {
+                const std::size_t j = (start + step) % n;
+                const SensorPose& pose = pr.poses[j];
+                const Eigen::Vector3d ray = s.point - pose.position;
+                const Eigen::Vector3d in_sensor = pose.world_from_sensor.transpose() * ray;
+                if (!pr.prefilter.mayContain(in_sensor) || !pr.run->fov.contains(in_sensor)) continue;
+                const double length = ray.norm();
+                if (length <= options.self_hit_margin) continue;
+                const Eigen::Vector3d end_point = s.point - ray / length * options.self_hit_margin;
+                if (sight.blocked(Segment(toPoint(pose.position), toPoint(end_point)))) continue;
+                s.seen_by |= 1u << k;
+                start = j;
+                break;
+            }
+        }
+    }
+}
+
+}  // namespace
+
 std::vector<SurfaceSample> sampleVisibleSurface(const std::vector<TriangleMesh>& targets,
                                                 const std::vector<TriangleMesh>& occluders,
                                                 const std::vector<SensorRun>& runs, const VisibilityOptions& options) {
@@ -84,22 +222,27 @@ std::vector<SurfaceSample> sampleVisibleSurface(const std::vector<TriangleMesh>&
         for (const auto& t : m.triangles)
             sampleTriangle(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], options.sample_spacing, samples);
 
-    for (std::size_t k = 0; k < runs.size() && k < 32; ++k) {
-        const SensorRun& run = runs[k];
-        const std::vector<SensorPose> poses = thinned(run.poses, options.min_pose_spacing);
-        for (SurfaceSample& s : samples) {
-            for (const SensorPose& pose : poses) {
-                const Eigen::Vector3d ray = s.point - pose.position;
-                if (!run.fov.contains(pose.world_from_sensor.transpose() * ray)) continue;
-                const double length = ray.norm();
-                if (length <= options.self_hit_margin) continue;
-                const Eigen::Vector3d end = s.point - ray / length * options.self_hit_margin;
-                if (tree.do_intersect(Segment(toPoint(pose.position), toPoint(end)))) continue;
-                s.seen_by |= 1u << k;
-                break;
-            }
-        }
-    }
+    std::vector<PreparedRun> prepared;
+    for (std::size_t k = 0; k < runs.size() && k < 32; ++k)
+        prepared.push_back({&runs[k], FovPrefilter(runs[k].fov), thinned(runs[k].poses, options.min_pose_spacing)});
+
+    // Samples are independent: blocks of them go to the threads in turn. Each
+    // sample's bits depend on nothing but the sample, so the result does not
+    // depend on the thread count or the schedule.
+    constexpr std::size_t kBlock = 512;
+    const std::size_t blocks = (samples.size() + kBlock - 1) / kBlock;
+    const std::size_t threads =
+        std::min(static_cast<std::size_t>(std::max(1, options.threads)), std::max<std::size_t>(1, blocks));
+    std::atomic<std::size_t> next_block{0};
+    auto worker = [&]() {
+        SightTester sight(tree, triangles);
+        for (std::size_t b = next_block++; b < blocks; b = next_block++)
+            testSamples(samples, b * kBlock, std::min(samples.size(), (b + 1) * kBlock), prepared, sight, options);
+    };
+    std::vector<std::thread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
     return samples;
 }
 

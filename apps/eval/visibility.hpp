@@ -51,6 +51,7 @@ struct VisibilityOptions {
     double sample_spacing = 0.025;    // m between surface samples (a quarter voxel)
     double self_hit_margin = 0.005;   // m: the sight line stops this short of the sample
     double min_pose_spacing = 0.025;  // m: poses closer than this to the last kept one are skipped
+    int threads = 2;                  // worker threads over the samples (results do not depend on it)
 };
 
 struct SurfaceSample {

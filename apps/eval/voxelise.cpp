@@ -2,6 +2,12 @@
 #include "voxelise.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/helpers.h>
@@ -9,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace sonarfusion::eval {
 
@@ -22,17 +29,30 @@ constexpr double kBoxEpsilon = 1e-6;  // in voxels
 
 Point toPoint(const Eigen::Vector3d& v) { return Point(v.x(), v.y(), v.z()); }
 
-// Builds a Surface_mesh; returns false when the faces do not form a closed
-// 2-manifold (then only the surface cells are used).
-bool buildClosedMesh(const TriangleMesh& in, Mesh& out) {
-    std::vector<Mesh::Vertex_index> vs;
-    vs.reserve(in.vertices.size());
-    for (const auto& v : in.vertices) vs.push_back(out.add_vertex(toPoint(v)));
-    for (const auto& t : in.triangles) {
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return false;
-        if (out.add_face(vs[t[0]], vs[t[1]], vs[t[2]]) == Mesh::null_face()) return false;
-    }
-    return CGAL::is_closed(out);
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+// The mesh's parts: its connected components, each a Surface_mesh, after
+// CGAL's soup repair: identical points merged, faces with a repeated vertex
+// dropped, and points duplicated where several parts meet at a vertex or an
+// edge (orient_polygon_soup), so closed bars that touch stay closed parts.
+std::vector<Mesh> meshParts(const TriangleMesh& in) {
+    std::vector<Point> points;
+    points.reserve(in.vertices.size());
+    for (const auto& v : in.vertices) points.push_back(toPoint(v));
+    std::vector<std::array<std::size_t, 3>> faces;
+    faces.reserve(in.triangles.size());
+    for (const auto& t : in.triangles)
+        faces.push_back({static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]), static_cast<std::size_t>(t[2])});
+    PMP::merge_duplicate_points_in_polygon_soup(points, faces);
+    faces.erase(std::remove_if(faces.begin(), faces.end(),
+                               [](const std::array<std::size_t, 3>& f) { return f[0] == f[1] || f[1] == f[2] || f[0] == f[2]; }),
+                faces.end());
+    PMP::orient_polygon_soup(points, faces);
+    Mesh all;
+    PMP::polygon_soup_to_polygon_mesh(points, faces, all);
+    std::vector<Mesh> parts;
+    PMP::split_connected_components(all, parts);
+    return parts;
 }
 
 // Cell index range [lo, hi] (inclusive, clamped to the grid) covering [a, b].
@@ -67,18 +87,25 @@ MeshVoxels voxeliseMesh(const TriangleMesh& mesh, const GridSpec& grid) {
     VoxelMask inside(grid.size(), 0), crossed(grid.size(), 0), touched(grid.size(), 0);
     const double eps = kBoxEpsilon * grid.resolution;
 
-    Mesh sm;
-    out.closed = buildClosedMesh(mesh, sm);
-    if (out.closed) {
-        Eigen::Vector3d lo, hi;
-        meshBounds(mesh, lo, hi);
+    // Inside: union over the closed parts, each tested over its own bounding
+    // cells (parts may overlap or touch; one parity test over all of them would
+    // call an overlap "outside").
+    for (const Mesh& part : meshParts(mesh)) {
+        if (!CGAL::is_closed(part)) {
+            out.closed = false;
+            continue;
+        }
+        const CGAL::Bbox_3 box = PMP::bbox(part);
         Eigen::Vector3i a, b;
-        cellRange(grid, lo, hi, a, b);
-        const CGAL::Side_of_triangle_mesh<Mesh, Kernel> side(sm);
+        cellRange(grid, Eigen::Vector3d(box.xmin(), box.ymin(), box.zmin()), Eigen::Vector3d(box.xmax(), box.ymax(), box.zmax()),
+                  a, b);
+        const CGAL::Side_of_triangle_mesh<Mesh, Kernel> side(part);
         for (int z = a.z(); z <= b.z(); ++z)
             for (int y = a.y(); y <= b.y(); ++y)
-                for (int x = a.x(); x <= b.x(); ++x)
-                    if (side(toPoint(grid.centre(x, y, z))) != CGAL::ON_UNBOUNDED_SIDE) inside[grid.linear(x, y, z)] = 1;
+                for (int x = a.x(); x <= b.x(); ++x) {
+                    const std::size_t i = grid.linear(x, y, z);
+                    if (!inside[i] && side(toPoint(grid.centre(x, y, z))) != CGAL::ON_UNBOUNDED_SIDE) inside[i] = 1;
+                }
     }
 
     for (const auto& t : mesh.triangles) {
@@ -121,6 +148,37 @@ MeshVoxels voxeliseMeshes(const std::vector<TriangleMesh>& meshes, const GridSpe
         }
     }
     return all;
+}
+
+}  // namespace sonarfusion::eval
+
+namespace sonarfusion::eval {
+
+int countObjects(const std::vector<TriangleMesh>& meshes) {
+    std::vector<Mesh> parts;
+    for (const auto& m : meshes)
+        for (Mesh& p : meshParts(m)) parts.push_back(std::move(p));
+    // Union-find: parts whose surfaces meet (touch or cross), or of which one
+    // holds the other, are one object.
+    std::vector<std::size_t> parent(parts.size());
+    std::iota(parent.begin(), parent.end(), std::size_t{0});
+    const auto root = [&](std::size_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    std::vector<CGAL::Bbox_3> boxes;
+    for (const Mesh& p : parts) boxes.push_back(PMP::bbox(p));
+    for (std::size_t i = 0; i < parts.size(); ++i)
+        for (std::size_t j = i + 1; j < parts.size(); ++j) {
+            if (root(i) == root(j) || !CGAL::do_overlap(boxes[i], boxes[j])) continue;
+            const bool volumes = CGAL::is_closed(parts[i]) && CGAL::is_closed(parts[j]);
+            if (PMP::do_intersect(parts[i], parts[j], CGAL::parameters::do_overlap_test_of_bounded_sides(volumes),
+                                  CGAL::parameters::do_overlap_test_of_bounded_sides(volumes)))
+                parent[root(i)] = root(j);
+        }
+    int n = 0;
+    for (std::size_t i = 0; i < parts.size(); ++i) n += root(i) == i;
+    return n;
 }
 
 }  // namespace sonarfusion::eval

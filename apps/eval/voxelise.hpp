@@ -10,6 +10,9 @@
 // (box grown by 1e-6 voxel). An open mesh (e.g. a height-field seabed) has no
 // inside: its solid is (b) with the half-open cell [lo, hi), so a sheet lying
 // on a cell boundary still claims one cell. Cells outside the grid are dropped.
+// A mesh may hold several parts (connected components, e.g. two boxes in one
+// file, or the bars of a frame that touch or overlap): the inside is the union
+// of the closed parts' insides; `closed` is false when any part is open.
 #pragma once
 
 #include <vector>
@@ -28,5 +31,11 @@ struct MeshVoxels {
 [[nodiscard]] MeshVoxels voxeliseMesh(const TriangleMesh& mesh, const GridSpec& grid);
 // Union over several meshes (all objects of a scene, or all seabed tiles).
 [[nodiscard]] MeshVoxels voxeliseMeshes(const std::vector<TriangleMesh>& meshes, const GridSpec& grid);
+
+// Number of separate objects in these meshes: their connected parts (after
+// merging identical vertices; parts meeting only at a vertex or an edge are
+// split, see voxelise.cpp), with parts that touch, cross or contain one
+// another counted as one object (CGAL Polygon_mesh_processing::do_intersect).
+[[nodiscard]] int countObjects(const std::vector<TriangleMesh>& meshes);
 
 }  // namespace sonarfusion::eval

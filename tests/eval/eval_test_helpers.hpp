@@ -1,4 +1,12 @@
 // Small meshes for the evaluator tests, written as OFF files to a temp dir.
+//
+// The dir is private to the test process (its pid in the name) and removed at
+// exit: ctest runs every test case as its own process, two at a time with -j2,
+// and cases of one suite write the same file names with different contents
+// (e.g. every UnitCubeVoxels case writes "unit_cube.off" with its own offset).
+// A shared dir let one process truncate and rewrite the file while another
+// read it: that case then failed within a millisecond (wrong counts, or an
+// unreadable OFF) in a parallel run and never when run alone.
 #pragma once
 
 #include <Eigen/Core>
@@ -6,17 +14,36 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <vector>
+
+#include <unistd.h>
 
 #include "grid.hpp"
 #include "mesh.hpp"
 
 namespace sonarfusion::eval::test {
 
+class ProcessTempDir {
+public:
+    ProcessTempDir()
+        : path_(std::filesystem::temp_directory_path() / ("sf_eval_tests." + std::to_string(::getpid()))) {}
+    ~ProcessTempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    ProcessTempDir(const ProcessTempDir&) = delete;
+    ProcessTempDir& operator=(const ProcessTempDir&) = delete;
+    [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+};
+
 inline std::string tempDir() {
-    const auto dir = std::filesystem::temp_directory_path() / "sf_eval_tests";
-    std::filesystem::create_directories(dir);
-    return dir.string();
+    static const ProcessTempDir dir;
+    std::filesystem::create_directories(dir.path());
+    return dir.path().string();
 }
 
 // Writes an OFF with the given vertices and polygons; returns its path.

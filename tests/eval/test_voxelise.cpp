@@ -11,6 +11,8 @@
 //    1210 - 9*9*8 = 562.
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include "eval_test_helpers.hpp"
 #include "voxelise.hpp"
 
@@ -22,6 +24,12 @@ struct CubeCase {
     Eigen::Vector3d offset;
     std::size_t solid, surface;
 };
+
+// gtest prints a parameter in failure messages (and --gtest_list_tests);
+// without this it dumps the struct's 48 bytes, the name pointer among them.
+void PrintTo(const CubeCase& c, std::ostream* os) {
+    *os << c.name << " (offset " << c.offset.x() << ", " << c.offset.y() << ", " << c.offset.z() << ")";
+}
 
 class UnitCubeVoxels : public ::testing::TestWithParam<CubeCase> {};
 
