@@ -1,5 +1,6 @@
 #include "sonarfusion/fls_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -12,7 +13,9 @@ void require(bool ok, const char* what) {
 }
 }  // namespace
 
-FlsModel::FlsModel(const FlsGeometry& g) : rows_(g.rows), cols_(g.beams), nv_(g.elevation_samples) {
+FlsModel::FlsModel(const FlsGeometry& g)
+    : rows_(g.rows), cols_(g.beams), nv_(g.elevation_samples), tilt_(g.tilt), elevation_min_(g.elevation_min),
+      elevation_max_(g.elevation_max) {
     require(rows_ >= 2 && rows_ <= 16384, "rows must be in 2..16384");
     require(cols_ >= 1 && cols_ <= 4096, "beams must be in 1..4096");
     require(nv_ >= 1 && nv_ <= 256, "elevation_samples must be in 1..256");
@@ -38,6 +41,8 @@ FlsModel::FlsModel(const FlsGeometry& g) : rows_(g.rows), cols_(g.beams), nv_(g.
             range_[r] = g.range_min + static_cast<double>(rows_ - 1 - r) / (rows_ - 1) * (g.range_max - g.range_min);
     }
 
+    for (int r = 0; r < rows_; ++r) range_max_ = std::max(range_max_, range_[r]);
+
     bearing_.resize(cols_);
     if (!g.beam_bearing.empty()) {
         require(static_cast<int>(g.beam_bearing.size()) == cols_, "beam_bearing size must equal beams");
@@ -59,15 +64,15 @@ FlsModel::FlsModel(const FlsGeometry& g) : rows_(g.rows), cols_(g.beams), nv_(g.
 
     // Eq. 4 without the range: (cos(t+phi) cos th, cos(t+phi) sin th, sin(t+phi)).
     direction_.resize(static_cast<std::size_t>(cols_) * nv_);
-    for (int c = 0; c < cols_; ++c) {
-        for (int k = 0; k < nv_; ++k) {
-            const double down = g.tilt + elevation_[k];
-            direction_[static_cast<std::size_t>(c) * nv_ + k] =
-                Eigen::Vector3d(std::cos(down) * std::cos(bearing_[c]), std::cos(down) * std::sin(bearing_[c]),
-                                std::sin(down))
-                    .cast<float>();
-        }
-    }
+    for (int c = 0; c < cols_; ++c)
+        for (int k = 0; k < nv_; ++k) direction_[static_cast<std::size_t>(c) * nv_ + k] = directionAt(c, elevation_[k]);
+}
+
+Eigen::Vector3f FlsModel::directionAt(int col, double elevation) const {
+    const double down = tilt_ + elevation;
+    return Eigen::Vector3d(std::cos(down) * std::cos(bearing_[col]), std::cos(down) * std::sin(bearing_[col]),
+                           std::sin(down))
+        .cast<float>();
 }
 
 bool FlsModel::frameMatches(const FlsFrame& f) const {

@@ -1,52 +1,137 @@
 #include "sonarfusion/object_detector.hpp"
 
+#include <Eigen/Dense>
+#include <cmath>
 #include <stdexcept>
 
 namespace sonarfusion {
 
 ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
-    if (cfg.baseline_window < 1 || cfg.min_baseline_pings < 1 || cfg.min_baseline_pings > cfg.baseline_window ||
-        cfg.min_consecutive < 1 || !(cfg.rise_threshold > 0.0))
-        throw std::invalid_argument("detector: need 1 <= min_baseline_pings <= baseline_window, min_consecutive >= 1, rise_threshold > 0");
-    ring_.assign(cfg.baseline_window, 0.0);
+    if (!(cfg.seabed_radius > 0.0) || cfg.seabed_capacity < 3 || cfg.min_seabed_echoes < 3 ||
+        cfg.min_seabed_echoes > cfg.seabed_capacity || !(cfg.min_rise > 0.0) || !(cfg.rise_sigmas >= 0.0) ||
+        !(cfg.cluster_radius > 0.0) || cfg.min_risen_echoes < 1 || cfg.risen_capacity < cfg.min_risen_echoes ||
+        !std::isfinite(cfg.seabed_radius + cfg.min_rise + cfg.rise_sigmas + cfg.cluster_radius) ||
+        cfg.seabed_capacity > (1 << 20) || cfg.risen_capacity > (1 << 16))
+        throw std::invalid_argument(
+            "detector: need seabed_radius, min_rise, cluster_radius > 0, rise_sigmas >= 0, "
+            "3 <= min_seabed_echoes <= seabed_capacity <= 2^20, 1 <= min_risen_echoes <= risen_capacity <= 2^16");
+    seabed_.assign(cfg.seabed_capacity, Eigen::Vector3d::Zero());
+    risen_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
 }
 
 void ObjectDetector::reset() {
-    ring_count_ = ring_next_ = 0;
-    ring_sum_ = 0.0;
-    risen_run_ = 0;
-    risen_sum_.setZero();
+    seabed_count_ = seabed_next_ = 0;
+    risen_count_ = risen_next_ = 0;
+    last_xy_.setZero();
     detection_.reset();
 }
 
+// Least-squares plane through the seabed echoes within seabed_radius of xy. The
+// gradient is lightly regularised, so echoes along one line (a straight pass
+// sees the seabed mostly along its centre line) give a level cross-slope
+// instead of a wild one. With reject_outliers the fit is trimmed toward the
+// seabed's lower envelope: objects only ever stand above it, so echoes more
+// than one scatter above the previous fit are left out twice over (an object
+// seen before the seabed was known: the first sweep of a pass that starts close
+// to it), then a last fit keeps the echoes within 3 scatters of that one. The
+// scatter is measured on the echoes below the plane only, the side no object
+// can contaminate (and trimming cannot shrink).
+std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool reject_outliers) const {
+    const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
+    SeabedFit f;
+    const int passes = reject_outliers ? 4 : 1;
+    for (int pass = 0; pass < passes; ++pass) {
+        const SeabedFit prev = f;
+        auto use = [&](const Eigen::Vector3d& p) {
+            if ((p.head<2>() - xy).squaredNorm() > r2) return false;
+            if (pass == 0) return true;
+            const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
+            return pass < passes - 1 ? residual >= -prev.rms : std::fabs(residual) <= 3.0 * prev.rms;
+        };
+        Eigen::Vector2d sum_xy = Eigen::Vector2d::Zero();
+        double sum_z = 0.0;
+        int n = 0;
+        for (int i = 0; i < seabed_count_; ++i)
+            if (use(seabed_[i])) {
+                sum_xy += seabed_[i].head<2>();
+                sum_z += seabed_[i].z();
+                ++n;
+            }
+        if (n < cfg_.min_seabed_echoes) return pass == 0 ? std::nullopt : std::optional<SeabedFit>(prev);
+        const Eigen::Vector2d c = sum_xy / n;
+        const double zc = sum_z / n;
+        Eigen::Matrix2d a = Eigen::Matrix2d::Identity() * (1e-3 * n);  // ridge: (3 cm)^2 per echo
+        Eigen::Vector2d b = Eigen::Vector2d::Zero();
+        for (int i = 0; i < seabed_count_; ++i)
+            if (use(seabed_[i])) {
+                const Eigen::Vector2d d = seabed_[i].head<2>() - c;
+                a += d * d.transpose();
+                b += d * (seabed_[i].z() - zc);
+            }
+        f.centre = c;
+        f.depth = zc;
+        f.gradient = a.ldlt().solve(b);
+        f.echoes = n;
+        double sq = 0.0;
+        int below = 0;
+        for (int i = 0; i < seabed_count_; ++i)
+            if (use(seabed_[i])) {
+                const double e = seabed_[i].z() - f.depthAt(seabed_[i].head<2>());
+                if (e < 0.0) continue;
+                sq += e * e;
+                ++below;
+            }
+        f.rms = below > 0 ? std::sqrt(sq / below) : 0.0;
+    }
+    return f;
+}
+
+std::optional<SeabedFit> ObjectDetector::seabedAt(const Eigen::Vector2d& xy) const { return fit(xy, true); }
+
 std::optional<double> ObjectDetector::baseline() const {
-    if (ring_count_ < cfg_.min_baseline_pings) return std::nullopt;
-    return ring_sum_ / ring_count_;
+    const std::optional<SeabedFit> f = seabedAt(last_xy_);
+    if (!f) return std::nullopt;
+    return f->depthAt(last_xy_);
+}
+
+double ObjectDetector::riseThreshold(const SeabedFit& fit) const {
+    return std::max(cfg_.min_rise, cfg_.rise_sigmas * fit.rms);
+}
+
+void ObjectDetector::addSeabed(const Eigen::Vector3d& p) {
+    seabed_[seabed_next_] = p;
+    seabed_next_ = (seabed_next_ + 1) % cfg_.seabed_capacity;
+    if (seabed_count_ < cfg_.seabed_capacity) ++seabed_count_;
 }
 
 bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
     if (detection_ || !p.allFinite()) return false;
-    const std::optional<double> base = baseline();
+    const Eigen::Vector2d xy = p.head<2>();
+    last_xy_ = xy;
+    const std::optional<SeabedFit> seabed = seabedAt(xy);
     // NED: up is -z, so an echo that rose above the seabed has a smaller z.
-    if (base && p.z() < *base - cfg_.rise_threshold) {
-        ++risen_run_;
-        risen_sum_ += p;
-        if (risen_run_ >= cfg_.min_consecutive) {
-            detection_ = risen_sum_ / risen_run_;
-            return true;
-        }
+    if (!seabed || !(p.z() < seabed->depthAt(xy) - riseThreshold(*seabed))) {
+        // A seabed echo (risen echoes never enter the fit, so an object cannot
+        // drag the seabed up to itself).
+        addSeabed(p);
         return false;
     }
-    // A seabed echo: it ends any rising run and feeds the baseline (risen
-    // echoes never do, so an object cannot drag the baseline up to itself).
-    risen_run_ = 0;
-    risen_sum_.setZero();
-    if (ring_count_ == cfg_.baseline_window) ring_sum_ -= ring_[ring_next_];
-    else ++ring_count_;
-    ring_[ring_next_] = p.z();
-    ring_sum_ += p.z();
-    ring_next_ = (ring_next_ + 1) % cfg_.baseline_window;
-    return false;
+    risen_[risen_next_] = p;
+    risen_next_ = (risen_next_ + 1) % cfg_.risen_capacity;
+    if (risen_count_ < cfg_.risen_capacity) ++risen_count_;
+    // An object is where risen echoes gather: enough of them within
+    // cluster_radius of this one. Isolated spikes (speckle, fish) never gather.
+    const double c2 = cfg_.cluster_radius * cfg_.cluster_radius;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int i = 0; i < risen_count_; ++i)
+        if ((risen_[i].head<2>() - xy).squaredNorm() <= c2) {
+            sum += risen_[i];
+            ++n;
+        }
+    if (n < cfg_.min_risen_echoes) return false;
+    detection_ = sum / n;
+    return true;
 }
 
 }  // namespace sonarfusion

@@ -1,9 +1,12 @@
 #include "sonarfusion/segmentation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include <Eigen/Dense>
 
 namespace sonarfusion {
 
@@ -27,6 +30,7 @@ Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation,
     baseline_.assign(cols, kNaN);
     sat_sum_.assign(static_cast<std::size_t>(nx_ + 1) * (ny_ + 1), 0.0);
     sat_cnt_.assign(sat_sum_.size(), 0.0);
+    if (cfg.seabed_from_ps_echoes) sat_plane_.assign(9 * sat_sum_.size(), 0.0);
     objects_.reserve(cfg.max_objects);
 }
 
@@ -47,6 +51,81 @@ void Segmenter::columnSurfaces(const VoxelMap& map) {
             }
             while (iz - 1 >= 0 && occupied_[(iz - 1) * layer + col]) --iz;
             surface_[col] = map.origin().z() + iz * res;  // top face of the voxel
+        }
+    }
+}
+
+// Per column, the mean height of the PS echoes that ended in it (each voxel
+// weighted by its echo count), as the top face of a voxel like columnSurfaces.
+void Segmenter::echoSurfaces(const VoxelMap& map) {
+    const double res = map.resolution();
+    const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
+    for (std::size_t col = 0; col < layer; ++col) {
+        double sum = 0.0;
+        int n = 0;
+        for (int iz = 0; iz < nz_; ++iz) {
+            const int e = map.psEchoCount(iz * layer + col);
+            sum += e * (iz + 0.5);
+            n += e;
+        }
+        surface_[col] = n > 0 ? map.origin().z() + (sum / n - 0.5) * res : kNaN;
+    }
+}
+
+// The seabed under each column: a plane fitted by least squares to the column
+// surfaces in the square window around it (nine summed-area tables keep it
+// O(columns)), evaluated at the column. A plane follows a slope, which a
+// moving average only does where the window is full. With exclude_raised,
+// columns standing above the previous baseline by more than the object height
+// are left out, so an object does not lift the seabed under itself.
+void Segmenter::fitBaselinePlanes(const VoxelMap& map, bool exclude_raised) {
+    const int half = std::max(1, static_cast<int>(std::lround(0.5 * cfg_.baseline_window / map.resolution())));
+    const int w = nx_ + 1;
+    const std::size_t plane = static_cast<std::size_t>(w) * (ny_ + 1);
+    auto table = [&](int k, int x, int y) -> double& { return sat_plane_[k * plane + static_cast<std::size_t>(y) * w + x]; };
+    double total_sum = 0.0, total_cnt = 0.0;
+    for (int iy = 0; iy < ny_; ++iy) {
+        double row[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        for (int ix = 0; ix < nx_; ++ix) {
+            const std::size_t col = static_cast<std::size_t>(iy) * nx_ + ix;
+            const double s = surface_[col];
+            const bool use = !std::isnan(s) &&
+                             !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+            if (use) {
+                const double x = ix, y = iy;
+                const double v[9] = {1.0, x, y, s, x * x, x * y, y * y, x * s, y * s};
+                for (int k = 0; k < 9; ++k) row[k] += v[k];
+                total_sum += s;
+                total_cnt += 1.0;
+            }
+            for (int k = 0; k < 9; ++k) table(k, ix + 1, iy + 1) = table(k, ix + 1, iy) + row[k];
+        }
+    }
+    const double global = total_cnt > 0.0 ? total_sum / total_cnt : kNaN;
+    for (int iy = 0; iy < ny_; ++iy) {
+        const int y0 = std::max(0, iy - half), y1 = std::min(ny_, iy + half + 1);
+        for (int ix = 0; ix < nx_; ++ix) {
+            const int x0 = std::max(0, ix - half), x1 = std::min(nx_, ix + half + 1);
+            double m[9];
+            for (int k = 0; k < 9; ++k)
+                m[k] = table(k, x1, y1) - table(k, x1, y0) - table(k, x0, y1) + table(k, x0, y0);
+            const double n = m[0];
+            double value = global;
+            if (n >= 3.0) {
+                // Normal equations of z = a + b (x - xm) + c (y - ym), centred on
+                // the window's mean column; a small ridge keeps a line of
+                // columns (a narrow swath) from tilting the plane across it.
+                const double xm = m[1] / n, ym = m[2] / n, zm = m[3] / n;
+                Eigen::Matrix2d a;
+                a << m[4] - n * xm * xm, m[5] - n * xm * ym, m[5] - n * xm * ym, m[6] - n * ym * ym;
+                a += Eigen::Matrix2d::Identity() * (0.25 * n);
+                const Eigen::Vector2d b(m[7] - n * xm * zm, m[8] - n * ym * zm);
+                const Eigen::Vector2d g = a.ldlt().solve(b);
+                value = zm + g.x() * (ix - xm) + g.y() * (iy - ym);
+            } else if (n > 0.5) {
+                value = m[3] / n;
+            }
+            baseline_[static_cast<std::size_t>(iy) * nx_ + ix] = value;
         }
     }
 }
@@ -143,19 +222,40 @@ void Segmenter::setAlongTrack(const Eigen::Vector2d& north_east) {
 void Segmenter::markConfirmed(const VoxelMap& map) {
     std::fill(confirmed_.begin(), confirmed_.end(), 0);
     const int r = cfg_.ps_echo_radius;
+    echo_threshold_ = cfg_.ps_echo_min_count;
+    // Echoes summed over each voxel's neighbourhood (label_ is free scratch
+    // until label() runs): a surface the PS saw at grazing incidence, or a
+    // vertical face, spreads its echoes over several voxels, each holding few.
+    std::fill(label_.begin(), label_.end(), 0);
     for (std::size_t i = 0; i < map.size(); ++i) {
-        if (map.psEchoCount(i) < cfg_.ps_echo_min_count) continue;
+        const int e = map.psEchoCount(i);
+        if (e == 0) continue;
         const VoxelIndex c = map.fromLinear(i);
         for (int z = std::max(0, c.z - r); z <= std::min(nz_ - 1, c.z + r); ++z)
             for (int y = std::max(0, c.y - r); y <= std::min(ny_ - 1, c.y + r); ++y)
                 for (int x = std::max(0, c.x - r); x <= std::min(nx_ - 1, c.x + r); ++x)
-                    confirmed_[map.linear({x, y, z})] = 1;
+                    label_[map.linear({x, y, z})] += e;
     }
+    // The threshold: a share of what a well-seen surface collects in this map
+    // (90th percentile of the non-zero sums; queue_ is scratch here too).
+    if (cfg_.ps_echo_min_fraction > 0.0) {
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < map.size(); ++i)
+            if (label_[i] > 0) queue_[n++] = static_cast<uint32_t>(label_[i]);
+        if (n > 0) {
+            const auto p90 = queue_.begin() + static_cast<std::ptrdiff_t>((9 * n) / 10);
+            std::nth_element(queue_.begin(), p90, queue_.begin() + static_cast<std::ptrdiff_t>(n));
+            echo_threshold_ = std::max(cfg_.ps_echo_min_count,
+                                       static_cast<int>(std::ceil(cfg_.ps_echo_min_fraction * *p90)));
+        }
+    }
+    for (std::size_t i = 0; i < map.size(); ++i) confirmed_[i] = label_[i] >= echo_threshold_ ? 1 : 0;
 }
 
 bool Segmenter::confirmedByPs(const VoxelMap& map, std::size_t voxel) const {
     if (!require_ps_) return true;
-    return confirmed_.empty() ? map.psObserved(voxel) : confirmed_[voxel] != 0;
+    if (confirmed_.empty()) return map.psObserved(voxel);
+    return confirmed_[voxel] != 0;
 }
 
 void Segmenter::label(const VoxelMap& map) {
@@ -245,10 +345,24 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
         occupied_[i] = l[i] > logodds_threshold_ ? 1 : 0;
         stats_.occupied_voxels += occupied_[i];
     }
-    columnSurfaces(map);
     std::fill(baseline_.begin(), baseline_.end(), kNaN);
-    smoothBaseline(map, false);
-    smoothBaseline(map, true);
+    bool from_echoes = false;
+    if (cfg_.seabed_from_ps_echoes) {
+        echoSurfaces(map);
+        for (double v : surface_) from_echoes = from_echoes || !std::isnan(v);
+    }
+    if (from_echoes) {
+        // Objects stand above the seabed: each pass leaves out the columns the
+        // previous one found raised, so the plane settles on the seabed around
+        // an object instead of on a blend of both (two passes left the lowest
+        // 0.3 m of the 2 m slope boxes below a lifted baseline).
+        fitBaselinePlanes(map, false);
+        for (int pass = 0; pass < 3; ++pass) fitBaselinePlanes(map, true);
+    } else {
+        columnSurfaces(map);  // no PS echo (fls_only): the occupied surface
+        smoothBaseline(map, false);
+        smoothBaseline(map, true);
+    }
     if (!confirmed_.empty()) markConfirmed(map);
     label(map);
     return stats_;

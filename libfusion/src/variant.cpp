@@ -33,10 +33,14 @@ void applyVariant(Variant v, MapperConfig& cfg) {
             u.alpha_fls = 1.0;
             u.alpha_ps = 1.0;
             u.fls_once_per_frame = false;
+            u.fls_arc_spacing_voxels = 0.0;  // N_v = 5 at every range
+            u.fls_free_space = false;
+            u.ps_endpoint_hits = false;  // Eq. 13 leaves the end voxel alone
             u.require_ps_observation = false;
             break;
         case Variant::FlsOnly:
             u.ps_carving_enabled = false;
+            u.ps_endpoint_hits = false;
             u.require_ps_observation = false;
             break;
         case Variant::CarveOnly:

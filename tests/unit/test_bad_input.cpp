@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -93,7 +95,10 @@ TEST(BadInput, PointsOutsideTheMapAreSkippedNeverWrittenOutside) {
     auto frame = test::blankFrame(m.config().fls, 1000);
     std::fill(frame.pixels.begin(), frame.pixels.end(), 255);
     EXPECT_EQ(m.addFls(frame.view), Outcome::Used);
-    EXPECT_EQ(m.counters().fls_points_outside_map, 512 * 96 * 5);
+    // Every candidate point of every pixel: arcs sampled a voxel apart at the
+    // maximum range, ceil(10 m * 14 deg / 0.1 m) + 1 = 26 points each.
+    const int per_arc = static_cast<int>(std::ceil(10.0 * 14.0 * M_PI / 180.0 / 0.1)) + 1;
+    EXPECT_EQ(m.counters().fls_points_outside_map, 512 * 96 * per_arc);
     auto p = test::blankPing(500, 10.0, 1000, 0.0);
     p.bins[400] = 255;
     EXPECT_EQ(m.addPs(p.view), Outcome::Used);

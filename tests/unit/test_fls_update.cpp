@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 #include <set>
 
 #include "sonarfusion/fls_update.hpp"
+#include "sonarfusion/variant.hpp"
 #include "test_helpers.hpp"
 
 using namespace sonarfusion;
@@ -19,6 +22,9 @@ struct Fixture {
     Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
 
     Fixture() {
+        // Eq. 6 to the letter: N_v samples per arc, no free space (each has its own tests).
+        cfg.fls_arc_spacing_voxels = 0.0;
+        cfg.fls_free_space = false;
         // Map centred 4 m ahead and 3 m below a sensor at the world origin.
         map.initialiseAt(Eigen::Vector3d(4.0, 0.0, 3.0));
     }
@@ -131,4 +137,90 @@ TEST(FlsUpdate, PointsOutsideTheMapAreCountedNotWritten) {
     EXPECT_EQ(st.points_outside_map, 96 * 5);
     EXPECT_EQ(st.points_in_map, 0);
     EXPECT_EQ(countNonZero(fx.map), 0);
+}
+
+// --- Arc sampling that follows the voxel size (UpdateConfig::fls_arc_spacing_voxels)
+TEST(FlsUpdate, ArcSamplesFollowTheVoxelSizeSoTheArcIsUnbroken) {
+    Fixture fx;
+    fx.cfg.fls_arc_spacing_voxels = 1.0;
+    FlsUpdater up(fx.model, fx.cfg, fx.map);
+    auto frame = test::blankFrame(fx.geom, 0);
+    const int row = 100, col = 48;  // about 8.0 m: the paper's 5 samples lie 0.49 m apart
+    test::setPixel(frame, row, col, 204);
+    const FlsUpdateStats st = up.apply(frame.view, fx.sensor, fx.map);
+    const double r = 0.83 + (511.0 - row) / 511.0 * 9.17;
+    EXPECT_EQ(up.arcSamples(r), static_cast<int>(std::ceil(r * 14.0 * kDeg / 0.1)) + 1);
+    EXPECT_EQ(up.samplesPerArc(), up.arcSamples(10.0));
+    EXPECT_EQ(st.points_in_map, up.samplesPerArc());
+    // The voxels hit form one 26-connected chain from the top of the arc to its bottom.
+    std::vector<VoxelIndex> hit;
+    for (std::size_t i = 0; i < fx.map.size(); ++i)
+        if (fx.map.logOdds(i) > 0.0f) hit.push_back(fx.map.fromLinear(i));
+    EXPECT_GE(static_cast<int>(hit.size()), 15);
+    // Connected: a flood fill over 26-neighbours from the first voxel reaches all.
+    std::vector<bool> reached(hit.size(), false);
+    std::vector<std::size_t> todo{0};
+    reached[0] = true;
+    while (!todo.empty()) {
+        const VoxelIndex a = hit[todo.back()];
+        todo.pop_back();
+        for (std::size_t j = 0; j < hit.size(); ++j)
+            if (!reached[j] && std::max({std::abs(hit[j].x - a.x), std::abs(hit[j].y - a.y), std::abs(hit[j].z - a.z)}) <= 1) {
+                reached[j] = true;
+                todo.push_back(j);
+            }
+    }
+    EXPECT_EQ(std::count(reached.begin(), reached.end(), true), static_cast<long>(hit.size())) << "the arc has a gap";
+}
+
+// --- The FLS's own free space (UpdateConfig::fls_free_space)
+TEST(FlsUpdate, WaterBeforeTheFirstReturnIsCarvedAndTheReturnIsNot) {
+    Fixture fx;
+    fx.cfg.fls_free_space = true;
+    FlsUpdater up(fx.model, fx.cfg, fx.map);
+    auto frame = test::blankFrame(fx.geom, 0);
+    const int row = 200, col = 60;  // first (and only) return of beam 60 at ~6.4 m
+    test::setPixel(frame, row, col, 204);
+    const FlsUpdateStats st = up.apply(frame.view, fx.sensor, fx.map);
+    EXPECT_GT(st.voxels_freed, 0);
+    const double r_first = 0.83 + (511.0 - row) / 511.0 * 9.17;
+    const float hit = static_cast<float>(std::log(0.7 / 0.3) * 0.3 * 204.0 / 255.0);
+    const float freed = static_cast<float>(std::log(0.2 / 0.8) * 0.3);
+    EXPECT_FLOAT_EQ(up.freeIncrement(), freed);
+    int n_hit = 0, n_freed = 0;
+    for (std::size_t i = 0; i < fx.map.size(); ++i) {
+        const float l = fx.map.logOdds(i);
+        if (l == 0.0f) continue;
+        if (l > 0.0f) {
+            EXPECT_NEAR(l, hit, 1e-6) << "a voxel the return hit is never freed in the same frame";
+            ++n_hit;
+        } else {
+            EXPECT_NEAR(l, freed, 1e-6) << "each voxel freed once per frame";
+            ++n_freed;
+        }
+    }
+    // Beam 60's own water: points of its arcs short of the return are freed,
+    // and behind the return nothing of that beam is (other beams, which saw
+    // no return at all, free their whole range).
+    for (double r = 1.0; r < r_first - 0.2; r += 0.5) {
+        VoxelIndex v;
+        ASSERT_TRUE(fx.map.worldToIndex(r * fx.model.directionAt(col, 0.0).cast<double>(), v));
+        EXPECT_NEAR(fx.map.logOdds(fx.map.linear(v)), freed, 1e-6) << "beam water at " << r << " m not freed";
+    }
+    EXPECT_EQ(n_hit, st.voxels_updated);
+    EXPECT_EQ(n_freed, st.voxels_freed);
+    // Beams with no return at all free their whole range (inside the map), so
+    // far more voxels are freed than the one beam's water alone.
+    EXPECT_GT(n_freed, 1000);
+}
+
+TEST(FlsUpdate, TheFreeSpaceRuleIsOffInThePaperVariant) {
+    MapperConfig paper;
+    applyVariant(Variant::Paper, paper);
+    EXPECT_FALSE(paper.update.fls_free_space);
+    EXPECT_EQ(paper.update.fls_arc_spacing_voxels, 0.0);
+    MapperConfig fused;
+    applyVariant(Variant::Fused, fused);
+    EXPECT_TRUE(fused.update.fls_free_space);
+    EXPECT_GT(fused.update.fls_arc_spacing_voxels, 0.0);
 }

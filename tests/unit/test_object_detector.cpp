@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "sonarfusion/object_detector.hpp"
@@ -45,4 +46,36 @@ TEST(ObjectDetector, NeedsABaselineFirstAndIgnoresNonFinite) {
     EXPECT_FALSE(det.baseline().has_value());
     det.reset();
     EXPECT_FALSE(det.detected());
+}
+
+// A seabed sloping 5 deg along the track: the old level baseline called the
+// upslope a rise; the fitted plane does not.
+TEST(ObjectDetector, ASlopingSeabedIsNotARise) {
+    ObjectDetector det{DetectorConfig{}};
+    std::mt19937 rng(3);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    const double slope = std::tan(5.0 * M_PI / 180.0);
+    for (int i = 0; i < 20000; ++i) {
+        const double x = i * 0.005 - 20.0, y = 0.6 * std::sin(i * 0.3);  // a sweeping PS footprint
+        ASSERT_FALSE(det.addEchoPoint(Eigen::Vector3d(x, y, 20.0 - slope * x + noise(rng))))
+            << "false detection at ping " << i;
+    }
+}
+
+// A low object (0.25 m) seen in short bursts of a sector scan, off the centre
+// line: risen echoes gather at the object even though no five come in a row.
+TEST(ObjectDetector, FiresOnALowObjectSeenInBurstsAndCentresOnIt) {
+    ObjectDetector det{DetectorConfig{}};
+    std::mt19937 rng(4);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    bool fired = false;
+    for (int i = 0; i < 4000 && !fired; ++i) {
+        const bool on_object = i > 400 && i % 44 < 3;  // 3 pings of every 44-ping sweep
+        const double x = on_object ? 1.0 + 0.05 * (i % 3) : (i % 44) * 0.2 - 4.0;
+        const double z = (on_object ? 19.75 : 20.0) + noise(rng);
+        fired = det.addEchoPoint(Eigen::Vector3d(x, 0.7, z));
+    }
+    ASSERT_TRUE(fired);
+    EXPECT_NEAR(det.detection()->x(), 1.05, 0.1);
+    EXPECT_NEAR(det.detection()->z(), 19.75, 0.05);
 }

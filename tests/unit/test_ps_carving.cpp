@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sonarfusion/ps_carving.hpp"
+#include "sonarfusion/variant.hpp"
 #include "sonarfusion/voxel_walk.hpp"
 
 using namespace sonarfusion;
@@ -31,6 +32,7 @@ TEST(PsCarving, TouchesEveryVoxelOnTheRayButTheEndWithFallingWeights) {
     VoxelMap map = originMap();
     PsModel model{singleRay()};
     UpdateConfig cfg;
+    cfg.ps_endpoint_hits = false;  // Eq. 13 alone (the paper variant)
     PsCarver carver(model, cfg);
     Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
     sensor.translation() = Eigen::Vector3d(1.05, 2.05, 3.05);  // centre of voxel (10, 20, 30)
@@ -63,11 +65,14 @@ TEST(PsCarving, TouchesEveryVoxelOnTheRayButTheEndWithFallingWeights) {
     EXPECT_EQ(touched, 20);
 }
 
-TEST(PsCarving, EndPointHitsOnlyInCarveOnlyMode) {
+TEST(PsCarving, EndPointHitsByDefaultButNotInThePaperVariant) {
     VoxelMap map = originMap();
     PsModel model{singleRay()};
-    UpdateConfig cfg;
-    cfg.ps_endpoint_hits = true;
+    UpdateConfig cfg;  // fused: the echo is positive evidence of a surface
+    EXPECT_TRUE(cfg.ps_endpoint_hits);
+    MapperConfig paper;
+    applyVariant(Variant::Paper, paper);
+    EXPECT_FALSE(paper.update.ps_endpoint_hits);
     PsCarver carver(model, cfg);
     Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
     sensor.translation() = Eigen::Vector3d(1.05, 2.05, 3.05);

@@ -6,9 +6,20 @@
 using namespace sonarfusion;
 
 namespace {
+// The rules these scenes were built for: the seabed from the occupied surface
+// and a fixed echo count of 10. The echo height field and the relative echo
+// threshold that replaced them as defaults have their own tests at the end.
+SegmentationConfig occupiedSurfaceRules() {
+    SegmentationConfig c;
+    c.seabed_from_ps_echoes = false;
+    c.ps_echo_min_count = 10;
+    c.ps_echo_min_fraction = 0.0;
+    return c;
+}
+
 // What a PS that looked at a voxel leaves there: the observed flag and, by
 // default, enough echoes to confirm it (SegmentationConfig::ps_echo_min_count).
-void markSeenByPs(VoxelMap& m, std::size_t v, int echoes = SegmentationConfig{}.ps_echo_min_count) {
+void markSeenByPs(VoxelMap& m, std::size_t v, int echoes = occupiedSurfaceRules().ps_echo_min_count) {
     m.setFlag(v, VoxelMap::kPsObserved);
     for (int i = 0; i < echoes; ++i) m.addPsEcho(v);
 }
@@ -36,7 +47,7 @@ void buildScene(VoxelMap& m, bool ps_observed) {
 TEST(Segmentation, FindsTheBoxAboveTheSeabed) {
     VoxelMap m{MapConfig{}};
     buildScene(m, true);
-    Segmenter seg(SegmentationConfig{}, true, m);
+    Segmenter seg(occupiedSurfaceRules(), true, m);
     const SegmentationStats& st = seg.run(m);
     ASSERT_EQ(st.objects, 1);
     const ObjectInfo& o = seg.objects()[0];
@@ -55,7 +66,7 @@ TEST(Segmentation, FindsTheBoxAboveTheSeabed) {
 TEST(Segmentation, ObjectDoesNotLiftTheBaselineUnderItself) {
     VoxelMap m{MapConfig{}};
     buildScene(m, true);
-    Segmenter seg(SegmentationConfig{}, true, m);
+    Segmenter seg(occupiedSurfaceRules(), true, m);
     seg.run(m);
     EXPECT_NEAR(seg.seabedDepth(45, 47), 23.0, 1e-9);
 }
@@ -63,17 +74,17 @@ TEST(Segmentation, ObjectDoesNotLiftTheBaselineUnderItself) {
 TEST(Segmentation, UnconfirmedVoxelsAreNotReportedWhenPsIsRequired) {
     VoxelMap m{MapConfig{}};
     buildScene(m, false);
-    Segmenter confirmed(SegmentationConfig{}, true, m);
+    Segmenter confirmed(occupiedSurfaceRules(), true, m);
     EXPECT_EQ(confirmed.run(m).objects, 0);
     EXPECT_EQ(confirmed.stats().unconfirmed_voxels, 600);
-    Segmenter any(SegmentationConfig{}, false, m);
+    Segmenter any(occupiedSurfaceRules(), false, m);
     EXPECT_EQ(any.run(m).objects, 1);
 }
 
 TEST(Segmentation, RerunsGiveTheSameAnswer) {
     VoxelMap m{MapConfig{}};
     buildScene(m, true);
-    Segmenter seg(SegmentationConfig{}, true, m);
+    Segmenter seg(occupiedSurfaceRules(), true, m);
     seg.run(m);
     const int first = seg.objects()[0].voxel_count;
     seg.run(m);
@@ -104,7 +115,7 @@ int objectVoxelsWithEchoes(int echoes, const SegmentationConfig& cfg) {
 }  // namespace
 
 TEST(SegmentationEcho, CrossingRaysAloneDoNotConfirm) {
-    SegmentationConfig cfg;
+    SegmentationConfig cfg = occupiedSurfaceRules();
     // Every box voxel crossed by a PS ray, no echo anywhere: nothing confirmed.
     EXPECT_EQ(objectVoxelsWithEchoes(0, cfg), 0);
     // The rule as first written (negative radius): crossing is enough.
@@ -113,7 +124,7 @@ TEST(SegmentationEcho, CrossingRaysAloneDoNotConfirm) {
 }
 
 TEST(SegmentationEcho, AnEchoConfirmsItsNeighbourhoodOnceItHasEnoughEchoes) {
-    SegmentationConfig cfg;
+    SegmentationConfig cfg = occupiedSurfaceRules();
     cfg.min_object_voxels = 1;
     cfg.ps_echo_min_count = 3;
     EXPECT_EQ(objectVoxelsWithEchoes(2, cfg), 0);  // too few echoes: speckle, not a surface
@@ -151,7 +162,7 @@ TEST(Segmentation, LowLayersJoinFromAboveOnlyNotAlongTheSeabed) {
             m.add(v, 3.0f);
             markSeenByPs(m, v);
         }
-    SegmentationConfig cfg;
+    SegmentationConfig cfg = occupiedSurfaceRules();
     cfg.min_object_height = 0.2;  // iz 78 and 79 are the low band, the box above seeds
     Segmenter seg(cfg, true, m);
     ASSERT_EQ(seg.run(m).objects, 1);
@@ -190,10 +201,10 @@ TEST(Segmentation, AlongTrackBaselineFollowsABandBesideTheTrack) {
     buildScene(m, true);
     addRaisedBandAlongX(m);
     // Square window: the band stands above the average of its neighbourhood.
-    Segmenter square(SegmentationConfig{}, true, m);
+    Segmenter square(occupiedSurfaceRules(), true, m);
     EXPECT_EQ(square.run(m).objects, 2);
     // Along the track (x): the band is the seabed of its own lateral offset.
-    Segmenter along(SegmentationConfig{}, true, m);
+    Segmenter along(occupiedSurfaceRules(), true, m);
     along.setAlongTrack(Eigen::Vector2d(-3.0, 0.0));  // normalised; the sign does not matter
     EXPECT_TRUE(along.alongTrack().isApprox(Eigen::Vector2d(-1.0, 0.0)));
     ASSERT_EQ(along.run(m).objects, 1);
@@ -201,7 +212,7 @@ TEST(Segmentation, AlongTrackBaselineFollowsABandBesideTheTrack) {
     EXPECT_NEAR(along.seabedDepth(45, 71), 22.5, 1e-9);
     EXPECT_NEAR(along.seabedDepth(45, 47), 23.0, 1e-9);  // the box does not lift its own baseline
     // Switched off in the config: the square window again.
-    SegmentationConfig off;
+    SegmentationConfig off = occupiedSurfaceRules();
     off.baseline_along_track = false;
     Segmenter square_again(off, true, m);
     square_again.setAlongTrack(Eigen::Vector2d(1.0, 0.0));
@@ -230,4 +241,67 @@ TEST(TrackAxis, AveragesHeadingsAsAxes) {
     EXPECT_TRUE(crossing.axis().isZero());
     crossing.clear();
     EXPECT_EQ(crossing.count(), 0);
+}
+
+// --- The seabed as a height field of PS echoes, fitted by local planes, and
+// an echo threshold relative to what the map's surfaces collected.
+namespace {
+// A seabed sloping 5 deg along x (PS echoes in its surface voxels, occupied
+// below), and a 0.5 m tall block on it (echoes on its top), `echoes` per voxel.
+void buildSlopedScene(VoxelMap& m, int echoes) {
+    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // origin z 15
+    const double slope = std::tan(5.0 * M_PI / 180.0);
+    for (int iy = 0; iy < 100; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            const int top = 80 + static_cast<int>(std::floor((ix - 50) * slope));  // deeper to the north
+            for (int iz = top; iz < std::min(100, top + 4); ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            if (iy >= 40 && iy < 60)  // the PS swath
+                for (int e = 0; e < echoes; ++e) m.addPsEcho(m.linear({ix, iy, top}));
+        }
+    for (int ix = 45; ix < 55; ++ix)
+        for (int iy = 45; iy < 55; ++iy) {
+            const int top = 80 + static_cast<int>(std::floor((ix - 50) * slope));
+            for (int iz = top - 5; iz < top; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            for (int e = 0; e < echoes; ++e) m.addPsEcho(m.linear({ix, iy, top - 5}));
+        }
+}
+}  // namespace
+
+TEST(SegmentationEchoField, FollowsASlopingSeabedAndFindsTheBlockOnIt) {
+    VoxelMap m{MapConfig{}};
+    buildSlopedScene(m, 8);
+    Segmenter seg(SegmentationConfig{}, true, m);
+    const SegmentationStats& st = seg.run(m);
+    ASSERT_EQ(st.objects, 1);
+    // The baseline follows the slope (a level seabed would be off by 0.35 m at
+    // 4 m from the centre) and is not lifted by the block.
+    const double slope = std::tan(5.0 * M_PI / 180.0);
+    for (int ix : {10, 30, 50, 70, 90}) {
+        const double want = 15.0 + 0.1 * (80 + std::floor((ix - 50) * slope));
+        EXPECT_NEAR(seg.seabedDepth(ix, 50), want, 0.06) << "column x " << ix;
+    }
+    const ObjectInfo& o = seg.objects()[0];
+    EXPECT_NEAR(o.height_m, 0.5, 0.11);
+    // Echoes only on its top: the top two layers are confirmed (radius 1).
+    EXPECT_GE(o.voxel_count, 10 * 10 * 2);
+    EXPECT_LE(o.voxel_count, 12 * 12 * 3);
+}
+
+TEST(SegmentationEchoField, EchoThresholdScalesWithPingDensity) {
+    // Four times the pings (four times the echoes everywhere) must confirm the
+    // same voxels: a fixed count (the old 10) would confirm nothing at 2 echoes
+    // per voxel and everything at 8.
+    int found[2] = {0, 0};
+    int threshold[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        VoxelMap m{MapConfig{}};
+        buildSlopedScene(m, k == 0 ? 2 : 8);
+        Segmenter seg(SegmentationConfig{}, true, m);
+        seg.run(m);
+        found[k] = seg.stats().candidate_voxels;
+        threshold[k] = seg.echoThreshold();
+    }
+    EXPECT_GT(found[0], 0);
+    EXPECT_EQ(found[0], found[1]);
+    EXPECT_NEAR(threshold[1], 4 * threshold[0], 3);  // ceil() rounds each
 }

@@ -73,11 +73,23 @@ struct UpdateConfig {
     // Count each voxel at most once per FLS frame with the strongest intensity
     // that fell in it (DESIGN.md §3 "evidence counting"; OctoMap does the same).
     bool fls_once_per_frame = true;
+    // Spacing of the candidate points along each elevation arc, in voxels. A
+    // fixed N_v = 5 over 14 deg puts them 0.3-0.6 m apart at 5-10 m range, so
+    // the arc is dotted across 10 cm voxels; with a spacing > 0 each row gets
+    // max(N_v, ceil(r * aperture / (spacing * voxel)) + 1) samples. 0: N_v
+    // samples at every range (the paper).
+    double fls_arc_spacing_voxels = 1.0;
+    // The FLS's own free-space evidence (space carving, Aykin and
+    // Negahdaripour): a beam whose first return above the threshold lies at
+    // range r saw water along its whole elevation arc before r. Those voxels
+    // get alpha_F * ln(P_f / (1 - P_f)) once per frame (a voxel the same frame
+    // also hit is left alone). The paper ignores it.
+    bool fls_free_space = true;
     // Report as objects only voxels that a PS ray crossed or ended in.
     bool require_ps_observation = true;
     // PS-only reconstruction: the end voxel of each PS ray gets an occupied
     // update (delta L_o) instead of being left alone. Only the carve_only variant.
-    bool ps_endpoint_hits = false;
+    bool ps_endpoint_hits = true;
 };
 
 // Closest-group range selection of the PS (paper 2.3).
@@ -92,21 +104,36 @@ struct PsSelectionConfig {
     double min_range = 0.3;  // m
 };
 
-// PS rising-edge object detector that anchors the map (paper 2.1).
+// PS rising-edge object detector that anchors the map (paper 2.1). The seabed
+// is a plane fitted to recent seabed echoes near the newest one (so a slope is
+// not a rise); an echo is "risen" when it stands above that plane by more than
+// the seabed's own scatter allows; an object is declared where risen echoes
+// cluster. Nothing here counts pings, so ping rate and head speed do not matter.
 struct DetectorConfig {
-    int baseline_window = 50;        // pings in the running seabed baseline
-    int min_baseline_pings = 20;     // pings needed before detection may fire
-    double rise_threshold = 0.3;     // m above the baseline counts as "risen"
-    int min_consecutive = 5;         // risen pings in a row that declare an object
-    double max_range_fraction = 0.98;  // ignore peaks at the very end of the range
+    double seabed_radius = 3.0;      // m: seabed echoes within this horizontal distance are fitted
+    int seabed_capacity = 1024;      // seabed echoes kept (ring, allocated once)
+    int min_seabed_echoes = 20;      // echoes within seabed_radius needed before a rise is judged
+    double min_rise = 0.1;           // m: the smallest rise that counts, whatever the scatter
+    double rise_sigmas = 4.0;        // a rise must also exceed this many rms seabed residuals
+    double cluster_radius = 0.5;     // m: risen echoes this close (horizontally) form one cluster
+    int min_risen_echoes = 5;        // risen echoes in one cluster that declare an object
+    int risen_capacity = 64;         // risen echoes kept (ring, allocated once)
 };
 
 // Map completion and object segmentation (paper 2.4).
 struct SegmentationConfig {
     double occupied_probability = 0.7;  // threshold on Eq. 9
     double baseline_window = 3.0;       // m, moving-average window of the seabed
-    // Average along the track (paper 2.4) when the along-track axis is known
-    // (Segmenter::setAlongTrack); otherwise, or when false, a square window.
+    // The seabed height field: per column, the mean height of the PS echoes
+    // that ended there (the PS measures height to a few cm; the FLS does not),
+    // then a local plane fitted over a square window (so a sloping seabed is
+    // followed, and no trajectory shape is assumed). Columns no PS echo reached
+    // take the plane of their neighbourhood. False: the top of the lowest run
+    // of occupied voxels, averaged as below.
+    bool seabed_from_ps_echoes = true;
+    // With seabed_from_ps_echoes false: average along the track (paper 2.4)
+    // when the along-track axis is known (Segmenter::setAlongTrack); otherwise,
+    // or when false, a square window.
     bool baseline_along_track = true;
     double min_object_height = 0.15;    // m above the baseline
     int min_object_voxels = 10;         // smaller connected groups are noise
@@ -122,8 +149,13 @@ struct SegmentationConfig {
     // evidence of free space, not of an object. Negative: any PS ray crossing or
     // ending in the voxel confirms it (the rule as DESIGN.md first wrote it).
     int ps_echo_radius = 1;
-    // Echoes a voxel must hold to confirm its neighbourhood.
-    int ps_echo_min_count = 10;
+    // Echoes a voxel must hold to confirm its neighbourhood: at least
+    // ps_echo_min_count, and at least ps_echo_min_fraction of the 90th
+    // percentile of the echo counts of this map's echo voxels (how many echoes
+    // a well-seen surface collects here: it scales with ping density and head
+    // speed, so the rule does not assume one). Fraction 0: the count alone.
+    int ps_echo_min_count = 2;
+    double ps_echo_min_fraction = 0.3;
 };
 
 struct MapperConfig {

@@ -45,12 +45,19 @@ public:
         return range_[row] * direction(col, k).cast<double>();
     }
     [[nodiscard]] const std::vector<Eigen::Vector3f>& directions() const { return direction_; }
+    // Unit direction (sensor frame) of column `col` at any elevation inside the
+    // aperture (Eq. 4 without the range), for arcs sampled finer than N_v.
+    [[nodiscard]] Eigen::Vector3f directionAt(int col, double elevation) const;
+    [[nodiscard]] double elevationMin() const { return elevation_min_; }
+    [[nodiscard]] double elevationMax() const { return elevation_max_; }
+    [[nodiscard]] double rangeMax() const { return range_max_; }
 
     // True when the frame's size agrees with this geometry and its buffer.
     [[nodiscard]] bool frameMatches(const FlsFrame& f) const;
 
 private:
     int rows_, cols_, nv_;
+    double tilt_, elevation_min_, elevation_max_, range_max_ = 0.0;
     std::vector<double> range_;
     std::vector<double> bearing_;
     std::vector<double> elevation_;

@@ -1,7 +1,7 @@
 // Paper 2.1: before any map exists, each PS ping's strongest echo becomes a
-// world point. A running seabed baseline of their heights is kept; when the
-// heights rise above it for several pings in a row, an object is declared and
-// the map is initialised around it.
+// world point. The seabed under the vehicle is a plane fitted to the recent
+// seabed echoes nearby; an echo standing clearly above it is "risen"; where
+// risen echoes cluster, an object is declared and the map is initialised there.
 #pragma once
 
 #include <Eigen/Core>
@@ -12,28 +12,46 @@
 
 namespace sonarfusion {
 
+// The local seabed a detector sees: a plane z = z0 + g . (xy - xy0) and the
+// rms scatter of the echoes about it.
+struct SeabedFit {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // xy0, the mean of the fitted echoes
+    double depth = 0.0;                                // z0 (NED, m)
+    Eigen::Vector2d gradient = Eigen::Vector2d::Zero(); // dz/dx, dz/dy
+    double rms = 0.0;                                  // m, residual scatter
+    int echoes = 0;
+    [[nodiscard]] double depthAt(const Eigen::Vector2d& xy) const { return depth + gradient.dot(xy - centre); }
+};
+
 class ObjectDetector {
 public:
-    explicit ObjectDetector(const DetectorConfig& cfg);  // ring buffer allocated here
+    explicit ObjectDetector(const DetectorConfig& cfg);  // rings allocated here
 
-    // Feeds one echo point (NED). Returns true on the ping that declares an object.
+    // Feeds one echo point (NED). Returns true on the echo that declares an object.
     bool addEchoPoint(const Eigen::Vector3d& p);
     void reset();
 
     [[nodiscard]] bool detected() const { return detection_.has_value(); }
-    // Mean position of the risen echoes that declared the object.
+    // Mean position of the risen echoes of the cluster that declared the object.
     [[nodiscard]] const std::optional<Eigen::Vector3d>& detection() const { return detection_; }
-    // Running seabed depth (NED z, m); nothing until the baseline has enough pings.
+    // Seabed plane around `xy` from the seabed echoes within seabed_radius;
+    // nothing until min_seabed_echoes lie there.
+    [[nodiscard]] std::optional<SeabedFit> seabedAt(const Eigen::Vector2d& xy) const;
+    // Seabed depth (NED z, m) under the newest echo; nothing until the fit exists.
     [[nodiscard]] std::optional<double> baseline() const;
+    // The rise an echo must exceed above the fitted seabed (m).
+    [[nodiscard]] double riseThreshold(const SeabedFit& fit) const;
 
 private:
+    [[nodiscard]] std::optional<SeabedFit> fit(const Eigen::Vector2d& xy, bool reject_outliers) const;
+    void addSeabed(const Eigen::Vector3d& p);
+
     DetectorConfig cfg_;
-    std::vector<double> ring_;  // seabed depths of recent non-risen echoes
-    int ring_count_ = 0;
-    int ring_next_ = 0;
-    double ring_sum_ = 0.0;
-    int risen_run_ = 0;
-    Eigen::Vector3d risen_sum_ = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> seabed_;  // ring of seabed echoes
+    int seabed_count_ = 0, seabed_next_ = 0;
+    std::vector<Eigen::Vector3d> risen_;   // ring of risen echoes
+    int risen_count_ = 0, risen_next_ = 0;
+    Eigen::Vector2d last_xy_ = Eigen::Vector2d::Zero();
     std::optional<Eigen::Vector3d> detection_;
 };
 

@@ -49,9 +49,13 @@ public:
     // Seabed baseline depth (NED z, m) of column (ix, iy); NaN where unknown.
     [[nodiscard]] double seabedDepth(int ix, int iy) const { return baseline_[static_cast<std::size_t>(iy) * nx_ + ix]; }
     [[nodiscard]] const SegmentationStats& stats() const { return stats_; }
+    // The echo count that confirmed a voxel's neighbourhood in the last run.
+    [[nodiscard]] int echoThreshold() const { return echo_threshold_; }
 
 private:
     void columnSurfaces(const VoxelMap& map);
+    void echoSurfaces(const VoxelMap& map);
+    void fitBaselinePlanes(const VoxelMap& map, bool exclude_raised);
     void smoothBaseline(const VoxelMap& map, bool exclude_raised);
     void smoothBaselineAlongTrack(int half, bool exclude_raised);
     void markConfirmed(const VoxelMap& map);
@@ -69,9 +73,11 @@ private:
     std::vector<double> surface_;        // per column: depth of the seabed surface seen, NaN none
     std::vector<double> baseline_;       // per column: smoothed seabed depth
     std::vector<double> sat_sum_, sat_cnt_;  // summed-area tables, (nx+1)*(ny+1)
+    std::vector<double> sat_plane_;          // 9 summed-area tables for local plane fits
     std::vector<ObjectInfo> objects_;    // capacity max_objects
     SegmentationStats stats_;
     Eigen::Vector2d along_track_ = Eigen::Vector2d::Zero();  // unit (north, east), or zero
+    int echo_threshold_ = 0;  // echoes that confirm, as found by the last run
 };
 
 }  // namespace sonarfusion
