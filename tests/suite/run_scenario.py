@@ -61,7 +61,8 @@ def main(argv):
             with open(log, "w") as so, open(log + ".err", "w") as se:
                 try:
                     rc = subprocess.run(cmd, stdout=so, stderr=se, timeout=left).returncode
-                    message = last_line(log + ".err") if rc != 0 else ""
+                    # the last error line: stderr, else stdout (sf-mapper logs its errors there)
+                    message = (last_line(log + ".err") or last_line(log)) if rc != 0 else ""
                     if rc != 0 and rc < 0:
                         message = f"killed by signal {-rc}; " + message
                 except subprocess.TimeoutExpired:
