@@ -33,10 +33,14 @@ void buildMap(VoxelMap& m) {
 TEST(MapScoring, SegmentsWithTheMapperConfigAndTheTrackAxis) {
     VoxelMap m{MapConfig{}};
     buildMap(m);
-    const Prediction square = segmentMap(m, Variant::Fused);  // defaults, no track axis
-    EXPECT_EQ(square.stats.objects, 2);                        // box + the band beside the track
-
+    // This map's band beside the track holds PS echoes too, so the seabed must
+    // come from the occupied surface here (segmentation.seabed_from_ps_echoes
+    // false), the rule whose track-axis plumbing this test checks.
     MapperConfig cfg;
+    cfg.segmentation.seabed_from_ps_echoes = false;
+    const Prediction square = segmentMap(m, Variant::Fused, cfg, Eigen::Vector2d::Zero());  // no track axis
+    EXPECT_EQ(square.stats.objects, 2);                             // box + the band beside the track
+
     const Prediction along = segmentMap(m, Variant::Fused, cfg, Eigen::Vector2d(1.0, 0.0));
     EXPECT_EQ(along.stats.objects, 1);
     EXPECT_TRUE(along.object[m.linear({45, 47, 75})]);

@@ -208,24 +208,26 @@ private:
 // a per-scan key set (as insertPointCloud dedupes), carving rays through
 // computeRayKeys with Eq. 13's weight from each voxel centre's distance.
 double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Prefix& p, const GridKeys& grid,
-                      octomap::OcTree& tree) {
+                      const FlsUpdater& arcs, octomap::OcTree& tree) {
     const UpdateConfig& u = in.cfg.update;
     const float fls_increment = static_cast<float>(logOddsFromProbability(u.p_occupied) * u.alpha_fls);
     const float free_increment = static_cast<float>(logOddsFromProbability(u.p_free));
     const float hit_increment = static_cast<float>(logOddsFromProbability(u.p_occupied));
     const double alpha = u.alpha_ps;
     const Eigen::Vector3d shift = s.map_origin;
-    std::vector<Eigen::Vector3d> world_dir(in.fls_model.directions().size());
+    const float fls_free = static_cast<float>(logOddsFromProbability(u.p_free) * u.alpha_fls);
+    const double res = tree.getResolution();
+    std::vector<Eigen::Vector3d> world_dir(arcs.arcDirections().size());
     std::unordered_map<octomap::OcTreeKey, uint8_t, octomap::OcTreeKey::KeyHash> scan;
     octomap::KeyRay ray;
-    const int nv = in.fls_model.elevationSamples();
+    const int nv = arcs.samplesPerArc();  // the same arc samples as FlsUpdater
     const auto t = Clock::now();
     for (std::size_t i = 0; i < p.messages; ++i) {
         const MessageRecord& m = s.messages[i];
         if (m.kind == MessageRecord::Fls) {
             const sfbench::FlsMessage& f = in.log.fls[m.source];
             for (std::size_t d = 0; d < world_dir.size(); ++d)
-                world_dir[d] = m.world_from_sensor.linear() * in.fls_model.directions()[d].cast<double>();
+                world_dir[d] = m.world_from_sensor.linear() * arcs.arcDirections()[d].cast<double>();
             const Eigen::Vector3d sensor = m.world_from_sensor.translation() - shift;
             scan.clear();
             for (int row = 0; row < f.rows; ++row) {
@@ -248,7 +250,29 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                     }
                 }
             }
-            for (const auto& [key, intensity] : scan) tree.updateNode(key, fls_increment * intensity / 255.0f);
+            if (u.fls_free_space) {
+                // The beam's water before its first return, as FlsUpdater frees it
+                // (marked 0 in the scan set; voxels this frame hit keep the hit).
+                for (int col = 0; col < f.cols; ++col) {
+                    double r_first = in.fls_model.rangeMax();
+                    for (int row = f.rows - 1; row >= 0; --row)
+                        if (f.data[static_cast<std::size_t>(row) * f.cols + col] > u.fls_intensity_threshold) {
+                            r_first = in.fls_model.rangeOfRow(row);
+                            break;
+                        }
+                    for (double r = in.fls_model.rangeOfRow(f.rows - 1); r < r_first - std::sqrt(3.0) * res; r += 0.5 * res)
+                        for (int k = 0; k < nv; ++k) {
+                            const Eigen::Vector3d q = sensor + r * world_dir[static_cast<std::size_t>(col) * nv + k];
+                            octomap::OcTreeKey key;
+                            if (!tree.coordToKeyChecked(octomap::point3d(float(q.x()), float(q.y()), float(q.z())), key) ||
+                                !grid.inGrid(key))
+                                continue;
+                            scan.emplace(key, 0);
+                        }
+                }
+            }
+            for (const auto& [key, intensity] : scan)
+                tree.updateNode(key, intensity == 0 ? fls_free : fls_increment * intensity / 255.0f);
         } else {
             for (uint32_t r = m.ray_begin; r < m.ray_end; ++r) {
                 const Eigen::Vector3d a = s.rays[r].origin - shift, b = s.rays[r].end - shift;
@@ -426,7 +450,7 @@ int main(int argc, char** argv) {
         }
         if (enabled("octomap_user")) {
             user_tree = makeOcTree(map);
-            octo_user.best = std::min(octo_user.best, runOctomapUser(inputs, s, p, grid, *user_tree));
+            octo_user.best = std::min(octo_user.best, runOctomapUser(inputs, s, p, grid, fls_updater, *user_tree));
             octo_user.ran = true;
         }
     }

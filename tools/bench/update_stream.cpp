@@ -112,100 +112,27 @@ Outcome feedEvent(const ScenarioLog& log, const ScenarioLog::Event& ev, Mapper& 
 
 namespace {
 
-// Rebuilds FlsUpdater::apply's updates, in its order and with its float
-// arithmetic, from the public FlsModel tables (libfusion stays untouched).
-class FlsRecorder {
+// Records the updates libfusion's own updaters hand to their sink (the very
+// code the Mapper runs), in their order, into the stream.
+class StreamSink {
 public:
-    FlsRecorder(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map)
-        : model_(model), cfg_(cfg),
-          increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
-          world_direction_(model.directions().size()), slot_(map.size(), 0u) {}
-
-    void record(const FlsMessage& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
-                UpdateStream& out) {
-        const Eigen::Matrix3f rot = world_from_sensor.linear().cast<float>();
-        for (std::size_t i = 0; i < world_direction_.size(); ++i) world_direction_[i] = rot * model_.directions()[i];
-        const float inv_res = static_cast<float>(1.0 / map.resolution());
-        const Eigen::Vector3f sensor =
-            ((world_from_sensor.translation() - map.origin()) / map.resolution()).cast<float>();
-        const int nx = map.nx(), ny = map.ny(), nz = map.nz();
-        const int nv = model_.elevationSamples();
-        touched_.clear();
-        strongest_.clear();
-        for (int row = 0; row < frame.rows; ++row) {
-            const uint8_t* line = frame.data.data() + static_cast<std::size_t>(row) * frame.cols;
-            const float range = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
-            for (int col = 0; col < frame.cols; ++col) {
-                const uint8_t intensity = line[col];
-                if (intensity <= cfg_.fls_intensity_threshold) continue;
-                const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * nv];
-                for (int k = 0; k < nv; ++k) {
-                    const Eigen::Vector3f p = sensor + range * dir[k];
-                    const float fx = std::floor(p.x()), fy = std::floor(p.y()), fz = std::floor(p.z());
-                    if (!(fx >= 0.0f && fy >= 0.0f && fz >= 0.0f && fx < nx && fy < ny && fz < nz)) continue;
-                    const std::size_t v = (static_cast<std::size_t>(fz) * ny + static_cast<std::size_t>(fy)) * nx +
-                                          static_cast<std::size_t>(fx);
-                    if (!cfg_.fls_once_per_frame) {
-                        push(out, v, increment_ * intensity / 255.0f);
-                        continue;
-                    }
-                    uint32_t& s = slot_[v];
-                    if (s == 0) {
-                        touched_.push_back(static_cast<uint32_t>(v));
-                        strongest_.push_back(intensity);
-                        s = static_cast<uint32_t>(touched_.size());
-                    } else if (strongest_[s - 1] < intensity) {
-                        strongest_[s - 1] = intensity;
-                    }
-                }
-            }
-        }
-        for (std::size_t i = 0; i < touched_.size(); ++i) {
-            push(out, touched_[i], increment_ * strongest_[i] / 255.0f);
-            slot_[touched_[i]] = 0;
-        }
+    StreamSink(UpdateStream& out, bool fls) : out_(out), fls_(fls) {}
+    void add(std::size_t v, float delta, uint8_t flag) {
+        out_.updates.push_back({static_cast<uint32_t>(v), delta});
+        out_.update_flag.push_back(flag);
+        ++(fls_ ? out_.fls_updates : out_.ps_updates);
+        if (!fls_ && !out_.rays.empty()) out_.rays.back().end_update = static_cast<uint32_t>(out_.updates.size());
+    }
+    void echo(std::size_t /*v*/) {}  // flags and echo counts are not part of the log-odds stream
+    void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end) {
+        const auto at = static_cast<uint32_t>(out_.updates.size());
+        out_.rays.push_back(CarvingRay{origin, end, at, at});
     }
 
 private:
-    static void push(UpdateStream& out, std::size_t v, float delta) {
-        out.updates.push_back({static_cast<uint32_t>(v), delta});
-        out.update_flag.push_back(VoxelMap::kFlsTouched);
-        ++out.fls_updates;
-    }
-
-    const FlsModel& model_;
-    UpdateConfig cfg_;
-    float increment_;
-    std::vector<Eigen::Vector3f> world_direction_;
-    std::vector<uint32_t> slot_;
-    std::vector<uint32_t> touched_;
-    std::vector<uint8_t> strongest_;
+    UpdateStream& out_;
+    bool fls_;
 };
-
-// Rebuilds PsCarver::apply's updates with walkSegment (Eqs. 12-13).
-void recordPs(const PsModel& model, const UpdateConfig& cfg, double head_angle, double range,
-              const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map, UpdateStream& out) {
-    const float free_increment = static_cast<float>(logOddsFromProbability(cfg.p_free));
-    const float hit_increment = static_cast<float>(logOddsFromProbability(cfg.p_occupied));
-    const float alpha = static_cast<float>(cfg.alpha_ps);
-    const Eigen::Vector3d origin = world_from_sensor.translation();
-    for (int k = 0; k < model.fanSamples(); ++k) {
-        const Eigen::Vector3d end = origin + world_from_sensor.linear() * (range * model.direction(head_angle, k));
-        CarvingRay ray{origin, end, static_cast<uint32_t>(out.updates.size()), 0};
-        const WalkResult w = walkSegment(map, origin, end, [&](std::size_t v, double t) {
-            out.updates.push_back({static_cast<uint32_t>(v), free_increment * std::exp(-alpha * static_cast<float>(t))});
-            out.update_flag.push_back(VoxelMap::kPsObserved);
-        });
-        // The echo voxel only gets a flag (kept out of the stream), or a hit in carve_only.
-        if (w.end_in_map && cfg.ps_endpoint_hits) {
-            out.updates.push_back({static_cast<uint32_t>(w.end_voxel), hit_increment});
-            out.update_flag.push_back(VoxelMap::kPsObserved);
-        }
-        ray.end_update = static_cast<uint32_t>(out.updates.size());
-        out.ps_updates += ray.end_update - ray.begin;
-        out.rays.push_back(ray);
-    }
-}
 
 }  // namespace
 
@@ -227,7 +154,8 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
     UpdateStream& s = rec.stream;
     Mapper mapper(cfg);
     NavBuffer nav(cfg.nav_buffer_capacity, cfg.max_nav_gap_us);
-    FlsRecorder fls_recorder(mapper.flsModel(), cfg.update, mapper.map());
+    FlsUpdater fls_recorder(mapper.flsModel(), cfg.update, mapper.map());  // its own scratch
+    PsCarver ps_recorder(mapper.psModel(), cfg.update);
 
     for (const ScenarioLog::Event& ev : log.order) {
         if (ev.kind == ScenarioLog::Event::Nav) {
@@ -247,7 +175,14 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             if (nav.poseAt(f.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used FLS frame");
             m.kind = MessageRecord::Fls;
             m.world_from_sensor = sensorToWorld(pose, cfg.fls_mount);
-            fls_recorder.record(f, m.world_from_sensor, mapper.map(), s);
+            FlsFrame frame;
+            frame.utime = f.utime;
+            frame.rows = f.rows;
+            frame.cols = f.cols;
+            frame.data = f.data.data();
+            frame.data_size = f.data.size();
+            StreamSink sink(s, true);
+            fls_recorder.apply(frame, m.world_from_sensor, mapper.map(), sink);
             ++s.fls_frames;
         } else {
             if (!cfg.update.ps_carving_enabled) continue;
@@ -265,7 +200,8 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             m.head_angle = p.head_angle;
             m.range = rangeOfBin(ping, *bin);  // Used implies a bin was selected
             m.ray_begin = static_cast<uint32_t>(s.rays.size());
-            recordPs(mapper.psModel(), cfg.update, m.head_angle, m.range, m.world_from_sensor, mapper.map(), s);
+            StreamSink sink(s, false);
+            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, mapper.map(), sink);
             m.ray_end = static_cast<uint32_t>(s.rays.size());
             ++s.ps_pings;
         }

@@ -2,9 +2,9 @@
 // so that several map back-ends can be fed the identical updates and timed.
 //
 // The recording runs the real libfusion Mapper over the log in the daemon's
-// order and, beside it, rebuilds every update the Mapper applies from
-// libfusion's public API only (FlsModel directions + pose for the FLS,
-// walkSegment for the PS carving rays). Replaying the recorded stream into an
+// order and, beside it, runs libfusion's own FlsUpdater and PsCarver on the
+// same messages and poses with a recording sink (update_sink.hpp), so the
+// stream comes from the very code the Mapper runs. Replaying the recorded stream into an
 // empty VoxelMap must give the Mapper's map bit for bit; replayStream() and
 // the bench check that, so the stream is known to be the Mapper's own.
 #pragma once

@@ -4,11 +4,14 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "sonarfusion/config.hpp"
 #include "sonarfusion/fls_model.hpp"
+#include "sonarfusion/update_sink.hpp"
 #include "sonarfusion/voxel_map.hpp"
 
 namespace sonarfusion {
@@ -28,6 +31,11 @@ public:
 
     // The frame must already match the model (FlsModel::frameMatches).
     FlsUpdateStats apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map);
+    // The same updates, in the same order, handed to `sink` (update_sink.hpp)
+    // instead of written; `map` gives the grid geometry only.
+    template <class Sink>
+    FlsUpdateStats apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
+                         Sink& sink);
 
     // Eq. 5 times alpha_F: the increment for a pixel of intensity 255.
     [[nodiscard]] float fullScaleIncrement() const { return increment_; }
@@ -37,6 +45,9 @@ public:
     // fls_arc_spacing_voxels); every arc uses arcSamples(maximum range).
     [[nodiscard]] int arcSamples(double range) const;
     [[nodiscard]] int samplesPerArc() const { return table_samples_; }
+    // Unit directions of every arc sample, sensor frame: column c's samples are
+    // [c * samplesPerArc(), (c + 1) * samplesPerArc()), lowest elevation first.
+    [[nodiscard]] const std::vector<Eigen::Vector3f>& arcDirections() const { return sensor_direction_; }
 
 private:
     // Voxel of a point in voxel units relative to the map corner; -1 outside (NaN too).
@@ -54,5 +65,96 @@ private:
     std::vector<uint32_t> touched_;                 // voxels hit or freed in this frame
     std::vector<uint8_t> strongest_;                // strongest intensity per touched voxel, 0 = freed
 };
+
+// Template body: the mapper instantiates it with MapWriterSink, the bench with a recorder.
+template <class Sink>
+FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
+                                 Sink& sink) {
+    FlsUpdateStats st;
+    const Eigen::Matrix3f rot = world_from_sensor.linear().cast<float>();
+    for (std::size_t i = 0; i < world_direction_.size(); ++i) world_direction_[i] = rot * sensor_direction_[i];
+    // Work relative to the map's min corner in voxel units: small numbers, float is exact enough.
+    const float inv_res = static_cast<float>(1.0 / map.resolution());
+    const Eigen::Vector3f sensor = ((world_from_sensor.translation() - map.origin()) / map.resolution()).cast<float>();
+    const int nx = map.nx(), ny = map.ny(), nz = map.nz();
+    const int table = table_samples_;
+    const bool dedupe = cfg_.fls_once_per_frame || cfg_.fls_free_space;
+    std::size_t n_touched = 0;
+
+    for (int row = 0; row < frame.rows; ++row) {
+        const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
+        const float range = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
+        for (int col = 0; col < frame.cols; ++col) {
+            const uint8_t intensity = line[col];
+            if (intensity <= cfg_.fls_intensity_threshold) continue;  // paper 2.2: > 150 only
+            ++st.pixels_above_threshold;
+            const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * table];
+            for (int k = 0; k < table; ++k) {
+                const int64_t v = voxelOf(sensor + range * dir[k], nx, ny, nz);  // Eq. 4, in voxel units
+                if (v < 0) {
+                    ++st.points_outside_map;
+                    continue;
+                }
+                ++st.points_in_map;
+                if (!cfg_.fls_once_per_frame) {
+                    // Eq. 6 per candidate point, then the clamp of Eq. 8.
+                    sink.add(static_cast<std::size_t>(v), increment_ * intensity / 255.0f, VoxelMap::kFlsTouched);
+                    ++st.voxels_updated;
+                    if (!dedupe) continue;  // else remember the hit, so free space skips it
+                }
+                uint32_t& s = slot_[v];
+                if (s == 0) {
+                    touched_[n_touched] = static_cast<uint32_t>(v);
+                    strongest_[n_touched] = intensity;
+                    s = static_cast<uint32_t>(++n_touched);
+                } else if (strongest_[s - 1] < intensity) {
+                    strongest_[s - 1] = intensity;
+                }
+            }
+        }
+    }
+    if (cfg_.fls_free_space) {
+        // Per beam, the water before its first return: arcs stepped half a voxel
+        // apart in range, up to a voxel diagonal short of that return (so no
+        // voxel holding a point of the returning arc is carved). Voxels this
+        // frame also hit keep only the hit.
+        const float margin = std::sqrt(3.0f);
+        const float r_min = static_cast<float>(model_.rangeOfRow(frame.rows - 1)) * inv_res;
+        for (int col = 0; col < frame.cols; ++col) {
+            float r_first = static_cast<float>(model_.rangeMax()) * inv_res;  // no return: all water
+            for (int row = frame.rows - 1; row >= 0; --row)  // near to far (row 0 is far)
+                if (frame.data[static_cast<std::size_t>(row) * frame.cols + col] > cfg_.fls_intensity_threshold) {
+                    r_first = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
+                    break;
+                }
+            const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * table];
+            for (float r = r_min; r < r_first - margin; r += 0.5f) {
+                for (int k = 0; k < table; ++k) {
+                    const int64_t v = voxelOf(sensor + r * dir[k], nx, ny, nz);
+                    if (v < 0) continue;
+                    uint32_t& s = slot_[v];
+                    if (s != 0) continue;
+                    touched_[n_touched] = static_cast<uint32_t>(v);
+                    strongest_[n_touched] = 0;
+                    s = static_cast<uint32_t>(++n_touched);
+                }
+            }
+        }
+    }
+    // Per-frame counting: each voxel gets Eq. 6 once, with its strongest
+    // intensity, or the free-space update once.
+    for (std::size_t i = 0; i < n_touched; ++i) {
+        const uint32_t v = touched_[i];
+        if (strongest_[i] == 0) {
+            sink.add(v, free_increment_, 0);
+            ++st.voxels_freed;
+        } else if (cfg_.fls_once_per_frame) {
+            sink.add(v, increment_ * strongest_[i] / 255.0f, VoxelMap::kFlsTouched);
+            ++st.voxels_updated;
+        }  // else: every hit point was applied in the loop above
+        slot_[v] = 0;
+    }
+    return st;
+}
 
 }  // namespace sonarfusion

@@ -4,10 +4,13 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "sonarfusion/config.hpp"
 #include "sonarfusion/ps_model.hpp"
+#include "sonarfusion/update_sink.hpp"
 #include "sonarfusion/voxel_map.hpp"
+#include "sonarfusion/voxel_walk.hpp"
 
 namespace sonarfusion {
 
@@ -25,6 +28,10 @@ public:
     // Carves the fan at head angle phi_p with selected range r_s (Eq. 11 points).
     PsCarveStats apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
                        VoxelMap& map) const;
+    // The same updates, in the same order, handed to `sink` (update_sink.hpp).
+    template <class Sink>
+    PsCarveStats apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
+                       const VoxelMap& map, Sink& sink) const;
 
     [[nodiscard]] float freeIncrement() const { return free_increment_; }  // Eq. 12
 
@@ -34,5 +41,30 @@ private:
     float free_increment_;  // delta L_f < 0
     float hit_increment_;   // delta L_o, for the carve_only end-point hits
 };
+
+template <class Sink>
+PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
+                             const VoxelMap& map, Sink& sink) const {
+    PsCarveStats st;
+    const Eigen::Vector3d origin = world_from_sensor.translation();
+    const float alpha = static_cast<float>(cfg_.alpha_ps);
+    for (int k = 0; k < model_.fanSamples(); ++k) {
+        const Eigen::Vector3d end = origin + world_from_sensor.linear() * (selected_range * model_.direction(head_angle, k));
+        ++st.rays;
+        sink.ray(origin, end);
+        const WalkResult w = walkSegment(map, origin, end, [&](std::size_t v, double t) {
+            sink.add(v, free_increment_ * std::exp(-alpha * static_cast<float>(t)), VoxelMap::kPsObserved);  // Eq. 13
+        });
+        st.voxels_carved += w.visited;
+        if (w.end_in_map) {
+            ++st.endpoints_in_map;
+            sink.echo(w.end_voxel);
+            if (cfg_.ps_endpoint_hits) sink.add(w.end_voxel, hit_increment_, VoxelMap::kPsObserved);
+        } else {
+            ++st.endpoints_outside_map;
+        }
+    }
+    return st;
+}
 
 }  // namespace sonarfusion

@@ -1,0 +1,36 @@
+// Where the updaters' voxel updates go. The mapper writes them into its map
+// (MapWriterSink); a benchmark or a test can record the very same stream by
+// passing its own sink with the same three calls.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+
+#include "sonarfusion/voxel_map.hpp"
+
+namespace sonarfusion {
+
+// The sink interface, by example (the updaters take any type with these calls):
+//   void add(std::size_t voxel, float delta, uint8_t flag)  // log-odds update, then set flag
+//   void echo(std::size_t voxel)                            // a PS echo ended here (flag + count)
+//   void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end)  // a PS ray starts
+class MapWriterSink {
+public:
+    explicit MapWriterSink(VoxelMap& map) : map_(map), out_(map.writer()) {}
+    void add(std::size_t v, float delta, uint8_t flag) {
+        out_.add(v, delta);
+        if (flag != 0) out_.setFlag(v, flag);
+    }
+    void echo(std::size_t v) {
+        map_.setFlag(v, VoxelMap::kPsObserved);
+        map_.addPsEcho(v);
+    }
+    void ray(const Eigen::Vector3d& /*origin*/, const Eigen::Vector3d& /*end*/) {}
+
+private:
+    VoxelMap& map_;
+    VoxelMap::Writer out_;
+};
+
+}  // namespace sonarfusion
