@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -24,7 +25,9 @@ struct Window {
     double x0, x1, y0, y1, z0, z1;
 };
 
-Window windowAround(const SceneTruth& scene) {
+// An object-free scene (nothing to outline) shows the whole extent of the
+// initialised maps instead, where any (false) object would be.
+std::optional<Window> windowAround(const SceneTruth& scene, const std::vector<FigurePanel>& panels) {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto& m : scene.objects) {
         Eigen::Vector3d a, b;
@@ -32,8 +35,17 @@ Window windowAround(const SceneTruth& scene) {
         lo = lo.cwiseMin(a);
         hi = hi.cwiseMax(b);
     }
-    if (!lo.allFinite()) throw std::runtime_error("figures: the scene has no object mesh");
-    return {std::floor(lo.x() - 1.5), std::ceil(hi.x() + 1.5), std::floor(lo.y() - 1.0), std::ceil(hi.y() + 1.0),
+    if (!lo.allFinite()) {
+        for (const FigurePanel& p : panels)
+            if (p.map != nullptr && p.map->initialised()) {
+                lo = lo.cwiseMin(p.map->origin());
+                hi = hi.cwiseMax(p.map->origin() + p.map->extent());
+            }
+        if (!lo.allFinite()) return std::nullopt;  // no object, no map: nothing to draw
+        return Window{std::floor(lo.x()), std::ceil(hi.x()), std::floor(lo.y()), std::ceil(hi.y()), std::floor(lo.z()),
+                std::ceil(hi.z())};
+    }
+    return Window{std::floor(lo.x() - 1.5), std::ceil(hi.x() + 1.5), std::floor(lo.y() - 1.0), std::ceil(hi.y() + 1.0),
             std::floor(lo.z() - 1.0), std::ceil(hi.z() + 0.5)};
 }
 
@@ -177,8 +189,10 @@ cv::Mat drawProjection(const View& view, const FigurePanel& panel, const SceneTr
 std::vector<std::string> writeFigures(const std::string& dir, const std::string& scenario, const SceneTruth& scene,
                                       const std::vector<FigurePanel>& panels) {
     std::filesystem::create_directories(dir);
-    const Window window = windowAround(scene);
     std::vector<std::string> written;
+    const std::optional<Window> around = windowAround(scene, panels);
+    if (!around) return written;
+    const Window window = *around;
     for (bool objects_only : {false, true})
         for (bool side : {true, false}) {
             const View view{side, window};

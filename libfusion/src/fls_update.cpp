@@ -11,16 +11,26 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
       free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free) * cfg.alpha_fls)) {
     if (cfg.fls_arc_spacing_voxels > 0.0) arc_spacing_ = cfg.fls_arc_spacing_voxels * map.resolution();
     table_samples_ = arcSamples(model.rangeMax());
-    if (arc_spacing_ > 0.0) {
-        sensor_direction_.resize(static_cast<std::size_t>(model.cols()) * table_samples_);
-        const double lo = model.elevationMin(), hi = model.elevationMax();
-        for (int c = 0; c < model.cols(); ++c)
-            for (int k = 0; k < table_samples_; ++k)
-                sensor_direction_[static_cast<std::size_t>(c) * table_samples_ + k] = model.directionAt(
-                    c, table_samples_ == 1 ? 0.5 * (lo + hi) : lo + k * (hi - lo) / (table_samples_ - 1));
-    } else {
-        sensor_direction_ = model.directions();  // Eq. 3: N_v samples
+    // One direction table per arc length n = N_v .. table_samples_, each with
+    // n evenly spaced elevations, so every range gets exactly the samples it
+    // needs (a subset of one finer table leaves gaps).
+    const int nv = model.elevationSamples();
+    table_offset_.assign(table_samples_ + 1, 0);
+    std::size_t total = 0;
+    for (int n = nv; n <= table_samples_; ++n) {
+        table_offset_[n] = total;
+        total += static_cast<std::size_t>(model.cols()) * n;
     }
+    sensor_direction_.resize(total);
+    const double lo = model.elevationMin(), hi = model.elevationMax();
+    for (int n = nv; n <= table_samples_; ++n)
+        for (int c = 0; c < model.cols(); ++c)
+            for (int k = 0; k < n; ++k)
+                sensor_direction_[table_offset_[n] + static_cast<std::size_t>(c) * n + k] =
+                    n == nv && !(arc_spacing_ > 0.0) ? model.direction(c, k)  // Eq. 3 exactly
+                                                     : model.directionAt(c, n == 1 ? 0.5 * (lo + hi) : lo + k * (hi - lo) / (n - 1));
+    row_samples_.resize(model.rows());
+    for (int r = 0; r < model.rows(); ++r) row_samples_[r] = arcSamples(model.rangeOfRow(r));
     world_direction_.resize(sensor_direction_.size());
     if (cfg_.fls_once_per_frame || cfg_.fls_free_space) {
         slot_.assign(map.size(), 0u);
@@ -29,9 +39,6 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
     }
 }
 
-// Every arc uses the samples that keep the longest one (at the maximum range)
-// within the spacing: nearer arcs are sampled finer than needed, which the
-// per-frame counting absorbs, and no subset of the table can leave a gap.
 int FlsUpdater::arcSamples(double range) const {
     const int nv = model_.elevationSamples();
     if (!(arc_spacing_ > 0.0)) return nv;

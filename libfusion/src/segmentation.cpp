@@ -275,6 +275,9 @@ void Segmenter::label(const VoxelMap& map) {
         if (std::isnan(base) || !(centre_z < base)) continue;
         if (!confirmedByPs(map, i)) {
             ++stats_.unconfirmed_voxels;
+            // Where no PS ray ever went, the FLS (with its own free space) is
+            // the only evidence: such voxels may extend an object (-3), never seed one.
+            if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
             continue;
         }
         label_[i] = centre_z < base - cfg_.min_object_height ? -1 : -2;
@@ -288,6 +291,7 @@ void Segmenter::label(const VoxelMap& map) {
         std::size_t head = 0, tail = 0;
         queue_[tail++] = static_cast<uint32_t>(seed);
         label_[seed] = id;
+        if (!confirmed_.empty()) confirmed_[seed] = 0;  // from here on: FLS-only steps from the PS-confirmed part
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         VoxelIndex lo{nx_, ny_, nz_}, hi{-1, -1, -1};
         double top_height = 0.0;
@@ -310,6 +314,13 @@ void Segmenter::label(const VoxelMap& map) {
                         // is one layer deeper), so the object's foot cannot walk
                         // along the seabed surface, which also lies in the low band.
                         if (label_[nl] == -2 && cfg_.low_layers_from_above && dz != 1) continue;
+                        if (label_[nl] == -3) {
+                            const int steps = confirmed_[v] + 1;
+                            if (steps > cfg_.fls_only_extension) continue;
+                            confirmed_[nl] = static_cast<uint8_t>(steps);
+                        } else if (!confirmed_.empty()) {
+                            confirmed_[nl] = 0;
+                        }
                         label_[nl] = id;
                         queue_[tail++] = static_cast<uint32_t>(nl);
                     }

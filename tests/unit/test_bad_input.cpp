@@ -95,10 +95,14 @@ TEST(BadInput, PointsOutsideTheMapAreSkippedNeverWrittenOutside) {
     auto frame = test::blankFrame(m.config().fls, 1000);
     std::fill(frame.pixels.begin(), frame.pixels.end(), 255);
     EXPECT_EQ(m.addFls(frame.view), Outcome::Used);
-    // Every candidate point of every pixel: arcs sampled a voxel apart at the
-    // maximum range, ceil(10 m * 14 deg / 0.1 m) + 1 = 26 points each.
-    const int per_arc = static_cast<int>(std::ceil(10.0 * 14.0 * M_PI / 180.0 / 0.1)) + 1;
-    EXPECT_EQ(m.counters().fls_points_outside_map, 512 * 96 * per_arc);
+    // Every candidate point of every pixel: per row, the arc samples that keep
+    // them a voxel apart, max(N_v, ceil(r * 14 deg / 0.1 m) + 1).
+    int64_t points = 0;
+    for (int row = 0; row < 512; ++row) {
+        const double r = 0.83 + (511.0 - row) / 511.0 * 9.17;
+        points += std::max(5, static_cast<int>(std::ceil(r * 14.0 * M_PI / 180.0 / 0.1)) + 1);
+    }
+    EXPECT_EQ(m.counters().fls_points_outside_map, 96 * points);
     auto p = test::blankPing(500, 10.0, 1000, 0.0);
     p.bins[400] = 255;
     EXPECT_EQ(m.addPs(p.view), Outcome::Used);

@@ -150,8 +150,7 @@ TEST(FlsUpdate, ArcSamplesFollowTheVoxelSizeSoTheArcIsUnbroken) {
     const FlsUpdateStats st = up.apply(frame.view, fx.sensor, fx.map);
     const double r = 0.83 + (511.0 - row) / 511.0 * 9.17;
     EXPECT_EQ(up.arcSamples(r), static_cast<int>(std::ceil(r * 14.0 * kDeg / 0.1)) + 1);
-    EXPECT_EQ(up.samplesPerArc(), up.arcSamples(10.0));
-    EXPECT_EQ(st.points_in_map, up.samplesPerArc());
+    EXPECT_EQ(st.points_in_map, up.arcSamples(r));
     // The voxels hit form one 26-connected chain from the top of the arc to its bottom.
     std::vector<VoxelIndex> hit;
     for (std::size_t i = 0; i < fx.map.size(); ++i)

@@ -220,7 +220,11 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
     std::vector<Eigen::Vector3d> world_dir(arcs.arcDirections().size());
     std::unordered_map<octomap::OcTreeKey, uint8_t, octomap::OcTreeKey::KeyHash> scan;
     octomap::KeyRay ray;
-    const int nv = arcs.samplesPerArc();  // the same arc samples as FlsUpdater
+    // The same arc samples as FlsUpdater: per range its number, evenly spread.
+    auto dirs = [&](double range, int col) {
+        const int n = arcs.arcSamples(range);
+        return std::make_pair(&world_dir[arcs.arcTableOffset(n) + static_cast<std::size_t>(col) * n], n);
+    };
     const auto t = Clock::now();
     for (std::size_t i = 0; i < p.messages; ++i) {
         const MessageRecord& m = s.messages[i];
@@ -235,8 +239,9 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                 for (int col = 0; col < f.cols; ++col) {
                     const uint8_t intensity = f.data[static_cast<std::size_t>(row) * f.cols + col];
                     if (intensity <= u.fls_intensity_threshold) continue;
+                    const auto [dir, nv] = dirs(range, col);
                     for (int k = 0; k < nv; ++k) {
-                        const Eigen::Vector3d q = sensor + range * world_dir[static_cast<std::size_t>(col) * nv + k];
+                        const Eigen::Vector3d q = sensor + range * dir[k];
                         octomap::OcTreeKey key;
                         if (!tree.coordToKeyChecked(octomap::point3d(float(q.x()), float(q.y()), float(q.z())), key) ||
                             !grid.inGrid(key))
@@ -260,15 +265,17 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                             r_first = in.fls_model.rangeOfRow(row);
                             break;
                         }
-                    for (double r = in.fls_model.rangeOfRow(f.rows - 1); r < r_first - std::sqrt(3.0) * res; r += 0.5 * res)
+                    for (double r = in.fls_model.rangeOfRow(f.rows - 1); r < r_first - std::sqrt(3.0) * res; r += 0.5 * res) {
+                        const auto [dir, nv] = dirs(r, col);
                         for (int k = 0; k < nv; ++k) {
-                            const Eigen::Vector3d q = sensor + r * world_dir[static_cast<std::size_t>(col) * nv + k];
+                            const Eigen::Vector3d q = sensor + r * dir[k];
                             octomap::OcTreeKey key;
                             if (!tree.coordToKeyChecked(octomap::point3d(float(q.x()), float(q.y()), float(q.z())), key) ||
                                 !grid.inGrid(key))
                                 continue;
                             scan.emplace(key, 0);
                         }
+                    }
                 }
             }
             for (const auto& [key, intensity] : scan)

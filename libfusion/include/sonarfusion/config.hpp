@@ -143,6 +143,10 @@ struct SegmentationConfig {
     // that band too, carry an object out along the whole seabed.
     bool low_layers_from_above = true;
     int max_objects = 64;               // fixed-size result
+    // Voxels no PS ray ever crossed or ended in (outside the PS swath, inside
+    // the wider FLS fan) may extend a PS-confirmed object by up to this many
+    // voxels (26-connected steps), on FLS evidence alone; they never seed one.
+    int fls_only_extension = 0;
     // PS confirmation (DESIGN.md §3), where the variant requires it: a voxel is
     // confirmed when a PS echo (the end point of Eq. 11) fell within this many
     // voxels of it (Chebyshev distance). A ray that merely crosses a voxel is

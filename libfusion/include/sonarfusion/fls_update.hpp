@@ -41,13 +41,17 @@ public:
     [[nodiscard]] float fullScaleIncrement() const { return increment_; }
     // alpha_F * ln(P_f / (1 - P_f)): the free-space update (< 0).
     [[nodiscard]] float freeIncrement() const { return free_increment_; }
-    // Candidate points an elevation arc at range r needs (N_v, or finer with
-    // fls_arc_spacing_voxels); every arc uses arcSamples(maximum range).
+    // Candidate points on the elevation arc at range r: N_v, or with
+    // fls_arc_spacing_voxels max(N_v, ceil(r * aperture / spacing) + 1).
     [[nodiscard]] int arcSamples(double range) const;
-    [[nodiscard]] int samplesPerArc() const { return table_samples_; }
-    // Unit directions of every arc sample, sensor frame: column c's samples are
-    // [c * samplesPerArc(), (c + 1) * samplesPerArc()), lowest elevation first.
+    // Unit direction (sensor frame) of sample k of column `col` on an arc of n
+    // samples (n in [N_v, arcSamples(maximum range)]), lowest elevation first.
+    [[nodiscard]] const Eigen::Vector3f& arcDirection(int n, int col, int k) const {
+        return sensor_direction_[arcTableOffset(n) + static_cast<std::size_t>(col) * n + k];
+    }
+    // All the tables in one array, and where the table of n samples starts.
     [[nodiscard]] const std::vector<Eigen::Vector3f>& arcDirections() const { return sensor_direction_; }
+    [[nodiscard]] std::size_t arcTableOffset(int n) const { return table_offset_[n]; }
 
 private:
     // Voxel of a point in voxel units relative to the map corner; -1 outside (NaN too).
@@ -58,8 +62,10 @@ private:
     float increment_;       // delta L_o * alpha_F
     float free_increment_;  // alpha_F * ln(P_f / (1 - P_f))
     double arc_spacing_ = 0.0;  // m between arc samples; 0: N_v samples
-    int table_samples_;         // elevation samples per column in the direction table
-    std::vector<Eigen::Vector3f> sensor_direction_; // cols * table_samples_, sensor frame
+    int table_samples_;         // samples of the longest arc (at the maximum range)
+    std::vector<std::size_t> table_offset_;         // per arc length n: start of its table
+    std::vector<int> row_samples_;                  // arc samples per row
+    std::vector<Eigen::Vector3f> sensor_direction_; // every table, sensor frame
     std::vector<Eigen::Vector3f> world_direction_;  // the same rotated into the map frame
     std::vector<uint32_t> slot_;                    // per voxel: 1 + index into touched_, 0 = untouched
     std::vector<uint32_t> touched_;                 // voxels hit or freed in this frame
@@ -77,19 +83,20 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     const float inv_res = static_cast<float>(1.0 / map.resolution());
     const Eigen::Vector3f sensor = ((world_from_sensor.translation() - map.origin()) / map.resolution()).cast<float>();
     const int nx = map.nx(), ny = map.ny(), nz = map.nz();
-    const int table = table_samples_;
     const bool dedupe = cfg_.fls_once_per_frame || cfg_.fls_free_space;
     std::size_t n_touched = 0;
 
     for (int row = 0; row < frame.rows; ++row) {
         const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
         const float range = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
+        const int n = row_samples_[row];
+        const Eigen::Vector3f* row_table = &world_direction_[table_offset_[n]];
         for (int col = 0; col < frame.cols; ++col) {
             const uint8_t intensity = line[col];
             if (intensity <= cfg_.fls_intensity_threshold) continue;  // paper 2.2: > 150 only
             ++st.pixels_above_threshold;
-            const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * table];
-            for (int k = 0; k < table; ++k) {
+            const Eigen::Vector3f* dir = row_table + static_cast<std::size_t>(col) * n;
+            for (int k = 0; k < n; ++k) {
                 const int64_t v = voxelOf(sensor + range * dir[k], nx, ny, nz);  // Eq. 4, in voxel units
                 if (v < 0) {
                     ++st.points_outside_map;
@@ -127,9 +134,10 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
                     r_first = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
                     break;
                 }
-            const Eigen::Vector3f* dir = &world_direction_[static_cast<std::size_t>(col) * table];
             for (float r = r_min; r < r_first - margin; r += 0.5f) {
-                for (int k = 0; k < table; ++k) {
+                const int n = arcSamples(r * map.resolution());
+                const Eigen::Vector3f* dir = &world_direction_[table_offset_[n] + static_cast<std::size_t>(col) * n];
+                for (int k = 0; k < n; ++k) {
                     const int64_t v = voxelOf(sensor + r * dir[k], nx, ny, nz);
                     if (v < 0) continue;
                     uint32_t& s = slot_[v];
