@@ -119,6 +119,7 @@ DaemonConfig loadDaemonConfig(const std::string& path) {
            {"seabed_from_ps_echoes", set(m.segmentation.seabed_from_ps_echoes)},
            {"ps_echo_min_fraction", set(m.segmentation.ps_echo_min_fraction)},
            {"fls_only_extension", set(m.segmentation.fls_only_extension)},
+           {"fill_below_objects", set(m.segmentation.fill_below_objects)},
            {"low_layers_from_above", set(m.segmentation.low_layers_from_above)},
            {"ps_echo_radius", set(m.segmentation.ps_echo_radius)},
            {"ps_echo_min_count", set(m.segmentation.ps_echo_min_count)}},

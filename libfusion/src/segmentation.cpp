@@ -278,6 +278,7 @@ void Segmenter::label(const VoxelMap& map) {
             // Where no PS ray ever went, the FLS (with its own free space) is
             // the only evidence: such voxels may extend an object (-3), never seed one.
             if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
+            else if (cfg_.fill_below_objects) label_[i] = -4;
             continue;
         }
         label_[i] = centre_z < base - cfg_.min_object_height ? -1 : -2;
@@ -314,6 +315,9 @@ void Segmenter::label(const VoxelMap& map) {
                         // is one layer deeper), so the object's foot cannot walk
                         // along the seabed surface, which also lies in the low band.
                         if (label_[nl] == -2 && cfg_.low_layers_from_above && dz != 1) continue;
+                        // Unconfirmed occupied voxels join only straight down from the
+                        // object: under its top, where the PS is shadowed.
+                        if (label_[nl] == -4 && !(dz == 1 && dx == 0 && dy == 0)) continue;
                         if (label_[nl] == -3) {
                             const int steps = confirmed_[v] + 1;
                             if (steps > cfg_.fls_only_extension) continue;

@@ -14,6 +14,7 @@ SegmentationConfig occupiedSurfaceRules() {
     c.seabed_from_ps_echoes = false;
     c.ps_echo_min_count = 10;
     c.ps_echo_min_fraction = 0.0;
+    c.fill_below_objects = false;
     return c;
 }
 
@@ -282,9 +283,45 @@ TEST(SegmentationEchoField, FollowsASlopingSeabedAndFindsTheBlockOnIt) {
     }
     const ObjectInfo& o = seg.objects()[0];
     EXPECT_NEAR(o.height_m, 0.5, 0.11);
-    // Echoes only on its top: the top two layers are confirmed (radius 1).
-    EXPECT_GE(o.voxel_count, 10 * 10 * 2);
-    EXPECT_LE(o.voxel_count, 12 * 12 * 3);
+    // Echoes only on its top: the PS confirms the top two layers (radius 1);
+    // the occupied voxels straight below them join (fill_below_objects), so
+    // the whole block is found and nothing beside it.
+    EXPECT_EQ(o.voxel_count, 10 * 10 * 5);
+    SegmentationConfig no_fill;
+    no_fill.fill_below_objects = false;
+    Segmenter top_only(no_fill, true, m);
+    top_only.run(m);
+    ASSERT_EQ(top_only.stats().objects, 1);
+    EXPECT_GE(top_only.objects()[0].voxel_count, 10 * 10 * 2);
+    EXPECT_LE(top_only.objects()[0].voxel_count, 12 * 12 * 3);
+}
+
+TEST(SegmentationEchoField, FillBelowJoinsOnlyStraightDownNotBeside) {
+    VoxelMap m{MapConfig{}};
+    buildSlopedScene(m, 8);
+    // An unconfirmed FLS ramp in front of the block (a false slope): occupied,
+    // above the seabed, beside the block's columns, never below them.
+    const double slope = std::tan(5.0 * M_PI / 180.0);
+    for (int ix = 38; ix < 45; ++ix)
+        for (int iy = 45; iy < 55; ++iy) {
+            const int top = 80 + static_cast<int>(std::floor((ix - 50) * slope));
+            for (int iz = top - (ix - 38) / 2 - 1; iz < top; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+        }
+    Segmenter seg(SegmentationConfig{}, true, m);
+    seg.run(m);
+    SegmentationConfig no_fill;
+    no_fill.fill_below_objects = false;
+    Segmenter without(no_fill, true, m);
+    without.run(m);
+    ASSERT_EQ(seg.stats().objects, 1);
+    ASSERT_EQ(without.stats().objects, 1);
+    // What the fill adds lies under the object: the block's three unconfirmed
+    // lower layers, plus at most one ramp column (its voxels the seabed echoes
+    // confirm may join from a filled voxel beside them). A fill that walked
+    // down the false slope would add all seven ramp columns.
+    EXPECT_GE(seg.objects()[0].bbox_min.x(), without.objects()[0].bbox_min.x() - 0.1 - 1e-9) << "the false slope joined";
+    EXPECT_GT(seg.objects()[0].voxel_count, without.objects()[0].voxel_count);
+    EXPECT_LE(seg.objects()[0].voxel_count - without.objects()[0].voxel_count, 10 * 10 * 3 + 10 * 4);
 }
 
 TEST(SegmentationEchoField, EchoThresholdScalesWithPingDensity) {

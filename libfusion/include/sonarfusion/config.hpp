@@ -147,6 +147,11 @@ struct SegmentationConfig {
     // the wider FLS fan) may extend a PS-confirmed object by up to this many
     // voxels (26-connected steps), on FLS evidence alone; they never seed one.
     int fls_only_extension = 0;
+    // Occupied voxels the PS did not confirm join an object when they lie
+    // straight below one of its voxels (down to the seabed baseline): the PS
+    // looks down at 20-60 deg and never sees under an object's top edge or the
+    // lower flanks of a rounded body, while the FLS does.
+    bool fill_below_objects = true;
     // PS confirmation (DESIGN.md §3), where the variant requires it: a voxel is
     // confirmed when a PS echo (the end point of Eq. 11) fell within this many
     // voxels of it (Chebyshev distance). A ray that merely crosses a voxel is
