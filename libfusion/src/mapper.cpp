@@ -121,7 +121,8 @@ Outcome Mapper::addPs(const PsPing& ping) {
     const std::optional<int> bin = selectClosestGroup(ping, cfg_.ps_selection);
     if (!bin) return count(Outcome::PsNoEcho);
     if (cfg_.update.ps_carving_enabled) {
-        const PsCarveStats st = ps_carver_.apply(ping.head_angle, rangeOfBin(ping, *bin), world_from_sensor, map_);
+        const PsCarveStats st = ps_carver_.apply(ping.head_angle, rangeOfBin(ping, *bin), world_from_sensor, map_,
+                                                 ping.intensity[*bin] / 255.0);
         counters_.ps_endpoints_outside_map += st.endpoints_outside_map;
     }
     ++counters_.ps_used;

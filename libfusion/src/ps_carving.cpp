@@ -11,9 +11,9 @@ PsCarver::PsCarver(const PsModel& model, const UpdateConfig& cfg)
       hit_increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied))) {}
 
 PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                             VoxelMap& map) const {
+                             VoxelMap& map, double echo_strength) const {
     MapWriterSink sink(map);
-    return apply(head_angle, selected_range, world_from_sensor, map, sink);
+    return apply(head_angle, selected_range, world_from_sensor, map, sink, echo_strength);
 }
 
 }  // namespace sonarfusion

@@ -161,7 +161,7 @@ double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, cons
     for (std::size_t i = 0; i < p.messages; ++i) {
         const MessageRecord& m = s.messages[i];
         if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
-        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map);
+        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
     }
     return secondsSince(t);
 }
@@ -183,7 +183,8 @@ public:
             table_[i] = free_increment_ * std::exp(-static_cast<float>(cfg.alpha_ps) * static_cast<float>(i) / kSteps);
         table_[kSteps + 1] = table_[kSteps];
     }
-    void apply(double head_angle, double range, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map) const {
+    void apply(double head_angle, double range, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map,
+               double /*echo_strength: no end-point hits in this what-if*/) const {
         const Eigen::Vector3d origin = world_from_sensor.translation();
         for (int k = 0; k < model_.fanSamples(); ++k) {
             const Eigen::Vector3d end = origin + world_from_sensor.linear() * (range * model_.direction(head_angle, k));
@@ -293,7 +294,7 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                 }
                 octomap::OcTreeKey end_key;
                 if (u.ps_endpoint_hits && tree.coordToKeyChecked(ob, end_key) && grid.inGrid(end_key))
-                    tree.updateNode(end_key, hit_increment);
+                    tree.updateNode(end_key, hit_increment * static_cast<float>(m.echo_strength));
             }
         }
     }
@@ -309,7 +310,7 @@ double runMessages(const PipelineInputs& in, const UpdateStream& s, const Prefix
         const MessageRecord& m = s.messages[i];
         if (m.kind != kind) continue;
         if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
-        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map);
+        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
     }
     return secondsSince(t);
 }

@@ -199,9 +199,10 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             m.world_from_sensor = sensorToWorld(pose, cfg.ps_mount);
             m.head_angle = p.head_angle;
             m.range = rangeOfBin(ping, *bin);  // Used implies a bin was selected
+            m.echo_strength = ping.intensity[*bin] / 255.0;
             m.ray_begin = static_cast<uint32_t>(s.rays.size());
             StreamSink sink(s, false);
-            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, mapper.map(), sink);
+            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, mapper.map(), sink, m.echo_strength);
             m.ray_end = static_cast<uint32_t>(s.rays.size());
             ++s.ps_pings;
         }

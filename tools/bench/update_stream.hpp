@@ -60,6 +60,7 @@ struct MessageRecord {
     uint32_t source;                         // index into ScenarioLog::fls / ::ps
     Eigen::Isometry3d world_from_sensor;     // pose the Mapper used
     double head_angle = 0.0, range = 0.0;    // PS: phi_p and the selected range r_s
+    double echo_strength = 1.0;              // PS: the selected bin's intensity / 255
     uint32_t begin = 0, end = 0;             // its updates: stream.updates[begin, end)
     uint32_t ray_begin = 0, ray_end = 0;     // PS: its rays in stream.rays
 };

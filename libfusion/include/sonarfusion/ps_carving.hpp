@@ -25,13 +25,16 @@ class PsCarver {
 public:
     PsCarver(const PsModel& model, const UpdateConfig& cfg);
 
-    // Carves the fan at head angle phi_p with selected range r_s (Eq. 11 points).
+    // Carves the fan at head angle phi_p with selected range r_s (Eq. 11
+    // points). echo_strength is the selected bin's intensity / 255: with
+    // ps_endpoint_hits, the voxel holding each fan candidate gets
+    // delta L_o * echo_strength, the PS echo weighted like an FLS pixel (Eq. 6).
     PsCarveStats apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                       VoxelMap& map) const;
+                       VoxelMap& map, double echo_strength = 1.0) const;
     // The same updates, in the same order, handed to `sink` (update_sink.hpp).
     template <class Sink>
     PsCarveStats apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                       const VoxelMap& map, Sink& sink) const;
+                       const VoxelMap& map, Sink& sink, double echo_strength = 1.0) const;
 
     [[nodiscard]] float freeIncrement() const { return free_increment_; }  // Eq. 12
 
@@ -44,8 +47,9 @@ private:
 
 template <class Sink>
 PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                             const VoxelMap& map, Sink& sink) const {
+                             const VoxelMap& map, Sink& sink, double echo_strength) const {
     PsCarveStats st;
+    const float hit = hit_increment_ * static_cast<float>(echo_strength);
     const Eigen::Vector3d origin = world_from_sensor.translation();
     const float alpha = static_cast<float>(cfg_.alpha_ps);
     for (int k = 0; k < model_.fanSamples(); ++k) {
@@ -59,7 +63,7 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
         if (w.end_in_map) {
             ++st.endpoints_in_map;
             sink.echo(w.end_voxel);
-            if (cfg_.ps_endpoint_hits) sink.add(w.end_voxel, hit_increment_, VoxelMap::kPsObserved);
+            if (cfg_.ps_endpoint_hits) sink.add(w.end_voxel, hit, VoxelMap::kPsObserved);
         } else {
             ++st.endpoints_outside_map;
         }
