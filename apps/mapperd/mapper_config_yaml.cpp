@@ -98,7 +98,8 @@ DaemonConfig loadDaemonConfig(const std::string& path) {
     apply(root["ps_selection"], "ps_selection",
           {{"group_threshold", set(m.ps_selection.group_threshold)},
            {"normalise_by_ping_max", set(m.ps_selection.normalise_by_ping_max)},
-           {"min_peak_intensity", set(m.ps_selection.min_peak_intensity)}, {"min_range", set(m.ps_selection.min_range)}},
+           {"min_peak_intensity", set(m.ps_selection.min_peak_intensity)}, {"min_range", set(m.ps_selection.min_range)},
+           {"weak_echoes_group", set(m.ps_selection.weak_echoes_group)}},
           path);
     apply(root["detector"], "detector",
           {{"seabed_radius", set(m.detector.seabed_radius)},

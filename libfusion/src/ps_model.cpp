@@ -1,5 +1,6 @@
 #include "sonarfusion/ps_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -36,11 +37,17 @@ std::optional<int> selectClosestGroup(const PsPing& ping, const PsSelectionConfi
     if (peak < cfg.min_peak_intensity || norm <= 0.0) return std::nullopt;
     // Bins are already sorted by range, so the first bin above tau starts the
     // nearest group; the group ends at the first bin that falls back below.
+    // With weak_echoes_group, a bin as strong as the weakest echo a ping may
+    // have at all (min_peak_intensity) belongs to a group too, whatever tau
+    // says: a surface in part of the fan returns less than the seabed across
+    // all of it, and is still the nearest surface.
+    double threshold = cfg.group_threshold;
+    if (cfg.weak_echoes_group) threshold = std::min(threshold, cfg.min_peak_intensity / norm);
     int b = firstUsableBin(ping, cfg);
-    while (b < ping.bins && ping.intensity[b] / norm <= cfg.group_threshold) ++b;
+    while (b < ping.bins && ping.intensity[b] / norm <= threshold) ++b;
     if (b == ping.bins) return std::nullopt;
     int best = b;
-    for (; b < ping.bins && ping.intensity[b] / norm > cfg.group_threshold; ++b)
+    for (; b < ping.bins && ping.intensity[b] / norm > threshold; ++b)
         if (ping.intensity[b] > ping.intensity[best]) best = b;
     return best;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "sonarfusion/ps_model.hpp"
+#include "sonarfusion/variant.hpp"
 #include "test_helpers.hpp"
 
 using namespace sonarfusion;
@@ -33,11 +34,36 @@ TEST(PsSelection, NearWeakGroupBeatsFarStrongGroup) {
     EXPECT_EQ(*maxIntensityBin(p.view, cfg), 300);
 }
 
+namespace {
+PsSelectionConfig tauOnly() {  // the paper's rule (section 2.3)
+    PsSelectionConfig c;
+    c.weak_echoes_group = false;
+    return c;
+}
+}  // namespace
+
 TEST(PsSelection, BelowTauIsNotAGroup) {
     auto p = test::blankPing(500, 10.0, 0, 0.0);
     p.bins[100] = 170;  // 0.667 of the peak: below tau
     p.bins[300] = 255;
-    EXPECT_EQ(*selectClosestGroup(p.view, PsSelectionConfig{}), 300);
+    EXPECT_EQ(*selectClosestGroup(p.view, tauOnly()), 300);
+}
+
+TEST(PsSelection, AWeakNearerSurfaceIsTheNearestGroupByDefault) {
+    // An object in part of the fan (60 counts) in front of the seabed summed
+    // across all of it (200): tau x peak = 140 hides the object, the echo
+    // level that makes a ping's peak an echo at all (min_peak_intensity 40)
+    // does not; water noise (25) stays below both.
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    for (int b = 0; b < 500; b += 7) p.bins[b] = 25;
+    p.bins[180] = 55;
+    p.bins[181] = 60;
+    p.bins[300] = 200;
+    EXPECT_EQ(*selectClosestGroup(p.view, tauOnly()), 300);
+    EXPECT_EQ(*selectClosestGroup(p.view, PsSelectionConfig{}), 181);
+    MapperConfig paper;
+    applyVariant(Variant::Paper, paper);
+    EXPECT_FALSE(paper.ps_selection.weak_echoes_group);
 }
 
 TEST(PsSelection, GroupsAreSplitAtTheFirstGap) {
@@ -53,7 +79,7 @@ TEST(PsSelection, NoEchoMeansNoUpdate) {
     for (auto& b : p.bins) b = 12;  // water noise only, below min_peak_intensity
     EXPECT_FALSE(selectClosestGroup(p.view, PsSelectionConfig{}).has_value());
     EXPECT_FALSE(maxIntensityBin(p.view, PsSelectionConfig{}).has_value());
-    PsSelectionConfig absolute;
+    PsSelectionConfig absolute = tauOnly();
     absolute.normalise_by_ping_max = false;  // tau on I/255
     p.bins[200] = 160;                       // 0.63: below tau on the absolute scale
     EXPECT_FALSE(selectClosestGroup(p.view, absolute).has_value());

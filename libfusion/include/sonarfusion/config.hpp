@@ -102,6 +102,11 @@ struct PsSelectionConfig {
     int min_peak_intensity = 40;
     // Bins closer than this are ignored (transducer ringing).
     double min_range = 0.3;  // m
+    // A bin of at least min_peak_intensity belongs to a group even below
+    // tau x the ping's peak: an object in part of the fan returns less than
+    // the seabed summed across all of it, and is still the nearest surface.
+    // False: tau alone (the paper).
+    bool weak_echoes_group = true;
 };
 
 // PS rising-edge object detector that anchors the map (paper 2.1). The seabed
