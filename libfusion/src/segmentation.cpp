@@ -55,6 +55,15 @@ void Segmenter::columnSurfaces(const VoxelMap& map) {
     }
 }
 
+// A column's surface enters the seabed fit when it is known and, with
+// exclude_raised, does not stand above the previous baseline by more than the
+// object height (so an object does not lift the seabed under itself).
+bool Segmenter::usableSurface(std::size_t col, bool exclude_raised) const {
+    const double s = surface_[col];
+    return !std::isnan(s) &&
+           !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+}
+
 // Per column, the mean height of the PS echoes that ended in it (each voxel
 // weighted by its echo count), as the top face of a voxel like columnSurfaces.
 void Segmenter::echoSurfaces(const VoxelMap& map) {
@@ -89,8 +98,7 @@ void Segmenter::fitBaselinePlanes(const VoxelMap& map, bool exclude_raised) {
         for (int ix = 0; ix < nx_; ++ix) {
             const std::size_t col = static_cast<std::size_t>(iy) * nx_ + ix;
             const double s = surface_[col];
-            const bool use = !std::isnan(s) &&
-                             !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+            const bool use = usableSurface(col, exclude_raised);
             if (use) {
                 const double x = ix, y = iy;
                 const double v[9] = {1.0, x, y, s, x * x, x * y, y * y, x * s, y * s};
@@ -147,8 +155,7 @@ void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
         for (int ix = 0; ix < nx_; ++ix) {
             const std::size_t col = static_cast<std::size_t>(iy) * nx_ + ix;
             const double s = surface_[col];
-            const bool use = !std::isnan(s) &&
-                             !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+            const bool use = usableSurface(col, exclude_raised);
             if (use) {
                 row_sum += s;
                 row_cnt += 1.0;
@@ -182,8 +189,7 @@ void Segmenter::smoothBaselineAlongTrack(int half, bool exclude_raised) {
     double total_sum = 0.0, total_cnt = 0.0;
     for (std::size_t col = 0; col < surface_.size(); ++col) {
         const double s = surface_[col];
-        const bool use = !std::isnan(s) &&
-                         !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+        const bool use = usableSurface(col, exclude_raised);
         sat_sum_[col] = use ? s : kNaN;
         if (use) {
             total_sum += s;

@@ -144,15 +144,7 @@ struct PipelineInputs {
     const PsModel& ps_model;
 };
 
-FlsFrame frameOf(const sfbench::FlsMessage& m) {
-    FlsFrame f;
-    f.utime = m.utime;
-    f.rows = m.rows;
-    f.cols = m.cols;
-    f.data = m.data.data();
-    f.data_size = m.data.size();
-    return f;
-}
+using sfbench::frameOf;
 
 double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, const Prefix& p, VoxelMap& map,
                            FlsUpdater& fls, const PsCarver& carver) {

@@ -82,18 +82,21 @@ ScenarioLog loadScenarioLog(const std::string& path, const DaemonConfig& cfg) {
     return log;
 }
 
+FlsFrame frameOf(const FlsMessage& m) {
+    FlsFrame f;
+    f.utime = m.utime;
+    f.rows = m.rows;
+    f.cols = m.cols;
+    f.data = m.data.data();
+    f.data_size = m.size_ok ? m.data.size() : 0;  // as the daemon: a size that disagrees is refused
+    return f;
+}
+
 Outcome feedEvent(const ScenarioLog& log, const ScenarioLog::Event& ev, Mapper& mapper) {
     switch (ev.kind) {
         case ScenarioLog::Event::Nav: return mapper.addNav(log.nav[ev.index]);
         case ScenarioLog::Event::Fls: {
-            const FlsMessage& m = log.fls[ev.index];
-            FlsFrame f;
-            f.utime = m.utime;
-            f.rows = m.rows;
-            f.cols = m.cols;
-            f.data = m.data.data();
-            f.data_size = m.size_ok ? m.data.size() : 0;
-            return mapper.addFls(f);
+            return mapper.addFls(frameOf(log.fls[ev.index]));
         }
         case ScenarioLog::Event::Ps: {
             const PsMessage& m = log.ps[ev.index];
@@ -175,14 +178,8 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             if (nav.poseAt(f.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used FLS frame");
             m.kind = MessageRecord::Fls;
             m.world_from_sensor = sensorToWorld(pose, cfg.fls_mount);
-            FlsFrame frame;
-            frame.utime = f.utime;
-            frame.rows = f.rows;
-            frame.cols = f.cols;
-            frame.data = f.data.data();
-            frame.data_size = f.data.size();
             StreamSink sink(s, true);
-            fls_recorder.apply(frame, m.world_from_sensor, mapper.map(), sink);
+            fls_recorder.apply(frameOf(f), m.world_from_sensor, mapper.map(), sink);
             ++s.fls_frames;
         } else {
             if (!cfg.update.ps_carving_enabled) continue;

@@ -96,6 +96,10 @@ Recording recordUpdateStream(const ScenarioLog& log, const sonarfusion::MapperCo
 // initialised at stream.map_centre.
 void replayStream(const UpdateStream& stream, std::size_t count, sonarfusion::VoxelMap& map);
 
+// The libfusion view of a logged FLS frame (data_size 0 when the message's
+// size disagreed, as the daemon refuses it).
+sonarfusion::FlsFrame frameOf(const FlsMessage& m);
+
 // Feeds one sonar message (in ScenarioLog order) to a Mapper; NAV too.
 sonarfusion::Outcome feedEvent(const ScenarioLog& log, const ScenarioLog::Event& ev, sonarfusion::Mapper& mapper);
 

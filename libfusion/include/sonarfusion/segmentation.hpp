@@ -55,6 +55,7 @@ public:
 private:
     void columnSurfaces(const VoxelMap& map);
     void echoSurfaces(const VoxelMap& map);
+    [[nodiscard]] bool usableSurface(std::size_t col, bool exclude_raised) const;
     void fitBaselinePlanes(const VoxelMap& map, bool exclude_raised);
     void smoothBaseline(const VoxelMap& map, bool exclude_raised);
     void smoothBaselineAlongTrack(int half, bool exclude_raised);
