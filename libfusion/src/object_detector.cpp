@@ -1,6 +1,7 @@
 #include "sonarfusion/object_detector.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -16,6 +17,7 @@ ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
             "detector: need seabed_radius, min_rise, cluster_radius > 0, rise_sigmas >= 0, "
             "3 <= min_seabed_echoes <= seabed_capacity <= 2^20, 1 <= min_risen_echoes <= risen_capacity <= 2^16");
     seabed_.assign(cfg.seabed_capacity, Eigen::Vector3d::Zero());
+    residual_.assign(cfg.seabed_capacity, 0.0);
     risen_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
 }
 
@@ -29,13 +31,14 @@ void ObjectDetector::reset() {
 // Least-squares plane through the seabed echoes within seabed_radius of xy. The
 // gradient is lightly regularised, so echoes along one line (a straight pass
 // sees the seabed mostly along its centre line) give a level cross-slope
-// instead of a wild one. With reject_outliers the fit is trimmed toward the
-// seabed's lower envelope: objects only ever stand above it, so echoes more
-// than one scatter above the previous fit are left out twice over (an object
-// seen before the seabed was known: the first sweep of a pass that starts close
-// to it), then a last fit keeps the echoes within 3 scatters of that one. The
-// scatter is measured on the echoes below the plane only, the side no object
-// can contaminate (and trimming cannot shrink).
+// instead of a wild one. With reject_outliers the fit is repeated three times,
+// each leaving out the echoes more than 3 scatters from the previous plane,
+// where the scatter is 1.4826 x the median absolute residual: robust while
+// objects and spikes are a minority of the echoes (min_seabed_echoes makes
+// sure the first sweep, which may be mostly object, is not judged alone), and
+// symmetric, so a slope is not flattened and a rough seabed's relief counts
+// in its scatter (its crests return the strongest echoes, so the residuals
+// below the plane alone understate it).
 std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool reject_outliers) const {
     const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
     SeabedFit f;
@@ -44,9 +47,7 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool rej
         const SeabedFit prev = f;
         auto use = [&](const Eigen::Vector3d& p) {
             if ((p.head<2>() - xy).squaredNorm() > r2) return false;
-            if (pass == 0) return true;
-            const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
-            return pass < passes - 1 ? residual >= -prev.rms : std::fabs(residual) <= 3.0 * prev.rms;
+            return pass == 0 || std::fabs(p.z() - prev.depthAt(p.head<2>())) <= 3.0 * prev.rms;
         };
         Eigen::Vector2d sum_xy = Eigen::Vector2d::Zero();
         double sum_z = 0.0;
@@ -72,16 +73,12 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool rej
         f.depth = zc;
         f.gradient = a.ldlt().solve(b);
         f.echoes = n;
-        double sq = 0.0;
-        int below = 0;
+        // Robust scatter of the echoes in this fit about it.
+        int m = 0;
         for (int i = 0; i < seabed_count_; ++i)
-            if (use(seabed_[i])) {
-                const double e = seabed_[i].z() - f.depthAt(seabed_[i].head<2>());
-                if (e < 0.0) continue;
-                sq += e * e;
-                ++below;
-            }
-        f.rms = below > 0 ? std::sqrt(sq / below) : 0.0;
+            if (use(seabed_[i])) residual_[m++] = std::fabs(seabed_[i].z() - f.depthAt(seabed_[i].head<2>()));
+        std::nth_element(residual_.begin(), residual_.begin() + m / 2, residual_.begin() + m);
+        f.rms = 1.4826 * residual_[m / 2];
     }
     return f;
 }

@@ -117,7 +117,9 @@ struct PsSelectionConfig {
 struct DetectorConfig {
     double seabed_radius = 3.0;      // m: seabed echoes within this horizontal distance are fitted
     int seabed_capacity = 1024;      // seabed echoes kept (ring, allocated once)
-    int min_seabed_echoes = 20;      // echoes within seabed_radius needed before a rise is judged
+    // Echoes within seabed_radius needed before a rise is judged: more than one
+    // head sweep (44 pings), so a first sweep that is mostly object is outvoted.
+    int min_seabed_echoes = 60;
     double min_rise = 0.1;           // m: the smallest rise that counts, whatever the scatter
     double rise_sigmas = 4.0;        // a rise must also exceed this many rms seabed residuals
     double cluster_radius = 0.5;     // m: risen echoes this close (horizontally) form one cluster

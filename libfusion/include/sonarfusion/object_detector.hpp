@@ -18,7 +18,7 @@ struct SeabedFit {
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // xy0, the mean of the fitted echoes
     double depth = 0.0;                                // z0 (NED, m)
     Eigen::Vector2d gradient = Eigen::Vector2d::Zero(); // dz/dx, dz/dy
-    double rms = 0.0;                                  // m, residual scatter
+    double rms = 0.0;                                  // m, robust residual scatter (1.4826 x MAD)
     int echoes = 0;
     [[nodiscard]] double depthAt(const Eigen::Vector2d& xy) const { return depth + gradient.dot(xy - centre); }
 };
@@ -48,6 +48,7 @@ private:
 
     DetectorConfig cfg_;
     std::vector<Eigen::Vector3d> seabed_;  // ring of seabed echoes
+    mutable std::vector<double> residual_; // scratch for the median absolute residual
     int seabed_count_ = 0, seabed_next_ = 0;
     std::vector<Eigen::Vector3d> risen_;   // ring of risen echoes
     int risen_count_ = 0, risen_next_ = 0;
