@@ -31,14 +31,16 @@ void ObjectDetector::reset() {
 // Least-squares plane through the seabed echoes within seabed_radius of xy. The
 // gradient is lightly regularised, so echoes along one line (a straight pass
 // sees the seabed mostly along its centre line) give a level cross-slope
-// instead of a wild one. With reject_outliers the fit is repeated three times,
-// each leaving out the echoes more than 3 scatters from the previous plane,
-// where the scatter is 1.4826 x the median absolute residual: robust while
-// objects and spikes are a minority of the echoes (min_seabed_echoes makes
-// sure the first sweep, which may be mostly object, is not judged alone), and
-// symmetric, so a slope is not flattened and a rough seabed's relief counts
-// in its scatter (its crests return the strongest echoes, so the residuals
-// below the plane alone understate it).
+// instead of a wild one. With reject_outliers the fit is trimmed toward the
+// seabed's lower envelope, since objects only ever stand above it: twice, the
+// echoes more than one scatter above the previous plane are left out (an
+// object seen before the seabed was known, when a pass starts close to it),
+// then a last fit keeps the echoes within 3 scatters of that plane on either
+// side, so a slope is not flattened. The scatter is 1.4826 x the median
+// absolute residual, over both sides: a rough seabed's crests return the
+// strongest echoes, and the residuals below the plane alone understate it.
+// min_seabed_echoes (more than one head sweep) keeps a first sweep that is
+// mostly object from being judged alone.
 std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool reject_outliers) const {
     const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
     SeabedFit f;
@@ -47,7 +49,9 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool rej
         const SeabedFit prev = f;
         auto use = [&](const Eigen::Vector3d& p) {
             if ((p.head<2>() - xy).squaredNorm() > r2) return false;
-            return pass == 0 || std::fabs(p.z() - prev.depthAt(p.head<2>())) <= 3.0 * prev.rms;
+            if (pass == 0) return true;
+            const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
+            return pass < passes - 1 ? residual >= -prev.rms : std::fabs(residual) <= 3.0 * prev.rms;
         };
         Eigen::Vector2d sum_xy = Eigen::Vector2d::Zero();
         double sum_z = 0.0;

@@ -116,10 +116,13 @@ def check(scenario_path, out_dir, expectations_path):
 
     variants = (report or {}).get("variants", {})
     mapper_objects = {}
+    fused_state = None
     for v in VARIANTS:
         st, _ = read_json(os.path.join(out_dir, f"{v}.status.json"))
         if st is not None:
             mapper_objects[v] = st.get("objects")
+            if v == "fused":
+                fused_state = st.get("state")
     result = {"scenario": name, "objects_true": expected, "variants": {}, "mapper_objects": mapper_objects,
               "report_error": report_err}
     for v in VARIANTS:
@@ -138,6 +141,9 @@ def check(scenario_path, out_dir, expectations_path):
         found = fused["objects"] if fused and fused["objects"] is not None else mapper_objects.get("fused")
         source = "report.json" if fused and fused["objects"] is not None else "sf-mapper's final status"
         bar(found == 0, f"no false object on object-free seabed: fused reports {found} (from {source}; bar 0)")
+        # Issue 9: detection (paper 2.1) must never fire on seabed, even when
+        # segmentation then finds nothing in the map it anchored.
+        bar(fused_state == "idle", f"no detection on object-free seabed: the fused mapper ended '{fused_state}' (bar: idle, never anchored)")
     else:
         if report is None:
             bar(False, f"no sf-eval report ({report_err}): nothing to judge")

@@ -82,9 +82,10 @@ TEST(ObjectDetector, FiresOnALowObjectSeenInBurstsAndCentresOnIt) {
 
 // A rough seabed (±10 cm relief, 1-3 m wavelengths) seen as a PS sees it: the
 // crests facing the sonar return the strongest echoes, so echoes come mostly
-// from the upper half of the relief. Its scatter must come from both sides of
-// the plane; measured below the plane alone it was 2-3 cm, and crests 0.1 m
-// up read as rises (a false detection on the suite's rough seabed).
+// from the upper part of the relief. Its scatter must be measured on both
+// sides of the plane (a version that measured it below the plane alone fired
+// on the suite's rough seabed; that case is end to end in the suite, whose
+// object-free scenarios check the detector never fires).
 TEST(ObjectDetector, ARoughSeabedSeenMostlyOnItsCrestsIsNotARise) {
     ObjectDetector det{DetectorConfig{}};
     std::mt19937 rng(5);
@@ -94,7 +95,7 @@ TEST(ObjectDetector, ARoughSeabedSeenMostlyOnItsCrestsIsNotARise) {
     for (int i = 0; fed < 30000; ++i) {
         const double x = i * 0.005 - 20.0, y = -1.0 + 0.6 * std::sin(i * 0.3);
         const double relief = 0.07 * std::sin(2 * M_PI * x / 2.3) + 0.03 * std::sin(2 * M_PI * (x + y) / 1.1);
-        if (relief < 0.03 && u(rng) < 0.9) continue;  // troughs and flanks mostly in shadow
+        if (relief < 0.02 && u(rng) < 0.8) continue;  // troughs and flanks mostly in shadow
         ++fed;
         ASSERT_FALSE(det.addEchoPoint(Eigen::Vector3d(x, y, 20.0 - relief + noise(rng))))
             << "false detection at x " << x;
