@@ -36,6 +36,15 @@ std::string validateConfig(const MapperConfig& cfg) {
     const PsSelectionConfig& s = cfg.ps_selection;
     if (!(s.group_threshold >= 0.0 && s.group_threshold < 1.0)) return "ps_selection.group_threshold must be in [0, 1)";
     if (cfg.max_nav_gap_us <= 0) return "max_nav_gap_us must be > 0";
+    // The issue-9 rules: sizes they allocate from, and shares.
+    if (!(u.fls_arc_spacing_voxels == 0.0 || (u.fls_arc_spacing_voxels >= 0.25 && u.fls_arc_spacing_voxels <= 100.0)))
+        return "update.fls_arc_spacing_voxels must be 0 (N_v samples) or in [0.25, 100]";
+    const SegmentationConfig& g = cfg.segmentation;
+    if (!(g.ps_echo_min_fraction >= 0.0 && g.ps_echo_min_fraction <= 1.0))
+        return "segmentation.ps_echo_min_fraction must be in [0, 1]";
+    if (g.ps_echo_min_count < 1) return "segmentation.ps_echo_min_count must be >= 1";
+    if (g.fls_only_extension < 0 || g.fls_only_extension > 255)
+        return "segmentation.fls_only_extension must be in 0..255";
     return {};
 }
 

@@ -120,3 +120,23 @@ TEST(BadInput, ImpossibleConfigIsAClearError) {
         EXPECT_NE(std::string(e.what()).find("p_free"), std::string::npos);
     }
 }
+
+TEST(BadInput, TheIssue9RulesRefuseImpossibleSettings) {
+    auto refused = [](const MapperConfig& c, const char* key) {
+        const std::string err = validateConfig(c);
+        return !err.empty() && err.find(key) != std::string::npos;
+    };
+    MapperConfig c;
+    EXPECT_TRUE(validateConfig(c).empty());
+    c.update.fls_arc_spacing_voxels = 1e-6;  // would size a table of millions of samples per beam
+    EXPECT_TRUE(refused(c, "fls_arc_spacing_voxels"));
+    c = MapperConfig{};
+    c.segmentation.ps_echo_min_fraction = 1.5;
+    EXPECT_TRUE(refused(c, "ps_echo_min_fraction"));
+    c = MapperConfig{};
+    c.segmentation.ps_echo_min_count = 0;
+    EXPECT_TRUE(refused(c, "ps_echo_min_count"));
+    c = MapperConfig{};
+    c.segmentation.fls_only_extension = 1000;  // steps are counted in a byte per voxel
+    EXPECT_TRUE(refused(c, "fls_only_extension"));
+}
