@@ -213,6 +213,10 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
     std::vector<Eigen::Vector3d> world_dir(arcs.arcDirections().size());
     std::unordered_map<octomap::OcTreeKey, uint8_t, octomap::OcTreeKey::KeyHash> scan;
     octomap::KeyRay ray;
+    // A candidate point's key, when it lies inside our grid.
+    auto keyInGrid = [&](const Eigen::Vector3d& q, octomap::OcTreeKey& key) {
+        return tree.coordToKeyChecked(octomap::point3d(float(q.x()), float(q.y()), float(q.z())), key) && grid.inGrid(key);
+    };
     // The same arc samples as FlsUpdater: per range its number, evenly spread.
     auto dirs = [&](double range, int col) {
         const int n = arcs.arcSamples(range);
@@ -226,6 +230,7 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
             for (std::size_t d = 0; d < world_dir.size(); ++d)
                 world_dir[d] = m.world_from_sensor.linear() * arcs.arcDirections()[d].cast<double>();
             const Eigen::Vector3d sensor = m.world_from_sensor.translation() - shift;
+            const FlsFrame frame = frameOf(f);
             scan.clear();
             for (int row = 0; row < f.rows; ++row) {
                 const double range = in.fls_model.rangeOfRow(row);
@@ -236,9 +241,7 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                     for (int k = 0; k < nv; ++k) {
                         const Eigen::Vector3d q = sensor + range * dir[k];
                         octomap::OcTreeKey key;
-                        if (!tree.coordToKeyChecked(octomap::point3d(float(q.x()), float(q.y()), float(q.z())), key) ||
-                            !grid.inGrid(key))
-                            continue;
+                        if (!keyInGrid(q, key)) continue;
                         if (!u.fls_once_per_frame) {
                             tree.updateNode(key, fls_increment * intensity / 255.0f);
                             continue;
@@ -252,20 +255,14 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                 // The beam's water before its first return, as FlsUpdater frees it
                 // (marked 0 in the scan set; voxels this frame hit keep the hit).
                 for (int col = 0; col < f.cols; ++col) {
-                    double r_first = in.fls_model.rangeMax();
-                    for (int row = f.rows - 1; row >= 0; --row)
-                        if (f.data[static_cast<std::size_t>(row) * f.cols + col] > u.fls_intensity_threshold) {
-                            r_first = in.fls_model.rangeOfRow(row);
-                            break;
-                        }
+                    const int first = firstReturnRow(frame, col, u.fls_intensity_threshold);
+                    const double r_first = first < 0 ? in.fls_model.rangeMax() : in.fls_model.rangeOfRow(first);
                     for (double r = in.fls_model.rangeOfRow(f.rows - 1); r < r_first - std::sqrt(3.0) * res; r += 0.5 * res) {
                         const auto [dir, nv] = dirs(r, col);
                         for (int k = 0; k < nv; ++k) {
                             const Eigen::Vector3d q = sensor + r * dir[k];
                             octomap::OcTreeKey key;
-                            if (!tree.coordToKeyChecked(octomap::point3d(float(q.x()), float(q.y()), float(q.z())), key) ||
-                                !grid.inGrid(key))
-                                continue;
+                            if (!keyInGrid(q, key)) continue;
                             scan.emplace(key, 0);
                         }
                     }

@@ -21,6 +21,14 @@ struct FlsFrame {
     std::size_t data_size = 0;
 };
 
+// The nearest row (rows count from the far end, Eq. 1) of column `col` whose
+// intensity exceeds `threshold`: the beam's first return; -1 when it has none.
+[[nodiscard]] inline int firstReturnRow(const FlsFrame& f, int col, int threshold) {
+    for (int row = f.rows - 1; row >= 0; --row)
+        if (f.data[static_cast<std::size_t>(row) * f.cols + col] > threshold) return row;
+    return -1;
+}
+
 class FlsModel {
 public:
     // Throws std::invalid_argument on an impossible geometry.

@@ -128,12 +128,9 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
         const float margin = std::sqrt(3.0f);
         const float r_min = static_cast<float>(model_.rangeOfRow(frame.rows - 1)) * inv_res;
         for (int col = 0; col < frame.cols; ++col) {
-            float r_first = static_cast<float>(model_.rangeMax()) * inv_res;  // no return: all water
-            for (int row = frame.rows - 1; row >= 0; --row)  // near to far (row 0 is far)
-                if (frame.data[static_cast<std::size_t>(row) * frame.cols + col] > cfg_.fls_intensity_threshold) {
-                    r_first = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
-                    break;
-                }
+            const int first = firstReturnRow(frame, col, cfg_.fls_intensity_threshold);
+            const float r_first =  // no return: all water
+                static_cast<float>(first < 0 ? model_.rangeMax() : model_.rangeOfRow(first)) * inv_res;
             for (float r = r_min; r < r_first - margin; r += 0.5f) {
                 const int n = arcSamples(r * map.resolution());
                 const Eigen::Vector3f* dir = &world_direction_[table_offset_[n] + static_cast<std::size_t>(col) * n];
