@@ -84,7 +84,8 @@ DaemonConfig loadDaemonConfig(const std::string& path) {
           path);
     apply(root["map"], "map",
           {{"nx", set(m.map.nx)}, {"ny", set(m.map.ny)}, {"nz", set(m.map.nz)}, {"resolution", set(m.map.resolution)},
-           {"clamp_min", set(m.map.clamp_min)}, {"clamp_max", set(m.map.clamp_max)}},
+           {"clamp_min", set(m.map.clamp_min)}, {"clamp_max", set(m.map.clamp_max)},
+           {"snap_to_world_lattice", set(m.map.snap_to_world_lattice)}},
           path);
     apply(root["update"], "update",
           {{"p_occupied", set(m.update.p_occupied)}, {"alpha_fls", set(m.update.alpha_fls)},

@@ -8,7 +8,7 @@ namespace sonarfusion {
 
 VoxelMap::VoxelMap(const MapConfig& cfg)
     : nx_(cfg.nx), ny_(cfg.ny), nz_(cfg.nz), resolution_(cfg.resolution),
-      clamp_min_(cfg.clamp_min), clamp_max_(cfg.clamp_max) {
+      clamp_min_(cfg.clamp_min), clamp_max_(cfg.clamp_max), snap_to_lattice_(cfg.snap_to_world_lattice) {
     if (nx_ <= 0 || ny_ <= 0 || nz_ <= 0 || nx_ > 4096 || ny_ > 4096 || nz_ > 4096)
         throw std::invalid_argument("map dimensions must be in 1..4096");
     if (!(resolution_ > 0.0) || !std::isfinite(resolution_))
@@ -28,6 +28,7 @@ void VoxelMap::clear() {
 void VoxelMap::initialiseAt(const Eigen::Vector3d& centre) {
     clear();
     origin_ = centre - 0.5 * extent();
+    if (snap_to_lattice_) origin_ = (origin_ / resolution_).array().round().matrix() * resolution_;
     initialised_ = true;
 }
 

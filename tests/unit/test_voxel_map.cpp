@@ -22,6 +22,20 @@ TEST(VoxelMap, InitialiseCentresTheGridOnThePoint) {
     EXPECT_TRUE(m.centre().isApprox(Eigen::Vector3d(1.0, -2.0, 20.0)));
 }
 
+TEST(VoxelMap, AnchorSnapsToTheWorldLattice) {
+    // Two detections 4 cm apart give the same voxels (issue 9: results moved with the anchor).
+    VoxelMap a{MapConfig{}}, b{MapConfig{}};
+    a.initialiseAt(Eigen::Vector3d(1.03, -2.01, 20.04));
+    b.initialiseAt(Eigen::Vector3d(0.99, -1.98, 20.0));
+    EXPECT_TRUE(a.origin().isApprox(Eigen::Vector3d(-4.0, -7.0, 15.0)));
+    EXPECT_TRUE(a.origin().isApprox(b.origin()));
+    MapConfig exact;
+    exact.snap_to_world_lattice = false;
+    VoxelMap c{exact};
+    c.initialiseAt(Eigen::Vector3d(1.03, -2.01, 20.04));
+    EXPECT_TRUE(c.centre().isApprox(Eigen::Vector3d(1.03, -2.01, 20.04)));
+}
+
 TEST(VoxelMap, WorldToIndexFloorsAndRejectsOutside) {
     VoxelMap m{MapConfig{}};
     m.initialiseAt(Eigen::Vector3d(5.0, 5.0, 5.0));  // origin at 0,0,0

@@ -103,6 +103,7 @@ private:
     int nx_, ny_, nz_;
     double resolution_;
     float clamp_min_, clamp_max_;
+    bool snap_to_lattice_;
     Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
     bool initialised_ = false;
     std::vector<float> log_odds_;
