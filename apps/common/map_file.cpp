@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 #include <fstream>
 #include <stdexcept>
 #include <vector>
@@ -60,7 +62,31 @@ void saveMap(const std::string& path, const VoxelMap& map, const std::string& va
 }
 
 namespace {
-MapFileHeader readHeader(std::ifstream& f, const std::string& path) {
+// Bytes before the voxel data: magic, 3 x int32, 4 x float64, 2 x float32,
+// uint8, uint32, then the variant name.
+constexpr uint64_t kFixedHeaderBytes = 8 + 3 * 4 + 4 * 8 + 2 * 4 + 1 + 4;
+constexpr uint32_t kMaxVariantLen = 64;
+
+// Opens a regular file (not a directory, FIFO or device, which would block or
+// fail later with a less clear message) and tells its size.
+std::ifstream openMapFile(const std::string& path, uint64_t& size) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (ec || !fs::exists(st)) fail(path, "cannot open (no such file)");
+    if (!fs::is_regular_file(st)) fail(path, "not a regular file");
+    size = fs::file_size(path, ec);
+    if (ec) fail(path, "cannot read its size: " + ec.message());
+    std::ifstream f(path, std::ios::binary);
+    if (!f) fail(path, "cannot open");
+    return f;
+}
+
+// Every field is checked before anything is sized from it, and the file must
+// be exactly as long as the header's grid says: a hostile or damaged header
+// can neither make a reader allocate more than the file holds nor leave
+// voxels unread.
+MapFileHeader readHeader(std::ifstream& f, const std::string& path, uint64_t file_size) {
     char magic[8];
     if (!f.read(magic, sizeof(magic)) || std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
         fail(path, "not a sonarfusion map (bad magic)");
@@ -74,23 +100,44 @@ MapFileHeader readHeader(std::ifstream& f, const std::string& path) {
     get(f, h.clamp_max, path);
     uint8_t init = 0;
     get(f, init, path);
-    h.initialised = init != 0;
     uint32_t len = 0;
     get(f, len, path);
-    if (len > 64) fail(path, "variant name too long");
+    if (len > kMaxVariantLen) fail(path, "variant name too long (" + std::to_string(len) + " bytes, at most 64)");
     h.variant.resize(len);
     if (len && !f.read(h.variant.data(), len)) fail(path, "truncated header");
     if (h.nx <= 0 || h.ny <= 0 || h.nz <= 0 || h.nx > 4096 || h.ny > 4096 || h.nz > 4096)
-        fail(path, "bad dimensions");
+        fail(path, "bad dimensions " + std::to_string(h.nx) + " x " + std::to_string(h.ny) + " x " +
+                       std::to_string(h.nz) + " (each must be in 1..4096)");
     if (!(h.resolution > 0.0) || !std::isfinite(h.resolution)) fail(path, "bad resolution");
+    for (int i = 0; i < 3; ++i) {
+        const double far = h.origin[i] + n[i] * h.resolution;
+        if (!std::isfinite(h.origin[i]) || !std::isfinite(far)) fail(path, "bad origin (not finite, or the grid's far corner is not)");
+        // Loading places the grid on the world lattice (origin / resolution
+        // rounded): that ratio must be a number a double counts exactly.
+        if (!(std::abs(h.origin[i] / h.resolution) <= 0x1p52)) fail(path, "bad origin (more than 2^52 voxels from the world origin)");
+    }
+    if (!std::isfinite(h.clamp_min) || !std::isfinite(h.clamp_max) || !(h.clamp_min < 0.0f && h.clamp_max > 0.0f))
+        fail(path, "bad log-odds clamp (must be finite, clamp_min < 0 < clamp_max)");
+    if (init > 1) fail(path, "bad initialised flag " + std::to_string(init) + " (0 or 1)");
+    h.initialised = init != 0;
+    for (char c : h.variant)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e)
+            fail(path, "variant name is not printable ASCII");
+    const uint64_t voxels = static_cast<uint64_t>(h.nx) * static_cast<uint64_t>(h.ny) * static_cast<uint64_t>(h.nz);
+    const uint64_t expected = kFixedHeaderBytes + len + voxels * (sizeof(float) + 1);
+    if (file_size < expected)
+        fail(path, "truncated voxel data (" + std::to_string(file_size) + " bytes; the " + std::to_string(h.nx) + " x " +
+                       std::to_string(h.ny) + " x " + std::to_string(h.nz) + " grid needs " + std::to_string(expected) + ")");
+    if (file_size > expected)
+        fail(path, std::to_string(file_size - expected) + " trailing bytes after the voxel data");
     return h;
 }
 }  // namespace
 
 MapFileHeader readMapHeader(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) fail(path, "cannot open");
-    return readHeader(f, path);
+    uint64_t size = 0;
+    std::ifstream f = openMapFile(path, size);
+    return readHeader(f, path, size);
 }
 
 MapConfig mapConfigOf(const MapFileHeader& h) {
@@ -102,18 +149,21 @@ MapConfig mapConfigOf(const MapFileHeader& h) {
 }
 
 MapFileHeader loadMap(const std::string& path, VoxelMap& map) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) fail(path, "cannot open");
-    const MapFileHeader h = readHeader(f, path);
+    uint64_t size = 0;
+    std::ifstream f = openMapFile(path, size);
+    const MapFileHeader h = readHeader(f, path, size);
     if (h.nx != map.nx() || h.ny != map.ny() || h.nz != map.nz()) fail(path, "dimensions differ from the map");
+    // The header matched the file's size, so these are as large as the file, no larger.
     std::vector<float> l(map.size());
     std::vector<uint8_t> flags(map.size());
     if (!f.read(reinterpret_cast<char*>(l.data()), static_cast<std::streamsize>(l.size() * sizeof(float))) ||
         !f.read(reinterpret_cast<char*>(flags.data()), static_cast<std::streamsize>(flags.size())))
         fail(path, "truncated voxel data");
+    // Checked before the map is touched: a bad file leaves it as it was.
+    for (std::size_t i = 0; i < l.size(); ++i)
+        if (!std::isfinite(l[i])) fail(path, "non-finite log-odds at voxel " + std::to_string(i));
     map.initialiseAt(Eigen::Vector3d(h.origin[0], h.origin[1], h.origin[2]) + 0.5 * map.extent());
     for (std::size_t i = 0; i < l.size(); ++i) {
-        if (!std::isfinite(l[i])) fail(path, "non-finite log-odds at voxel " + std::to_string(i));
         map.setLogOdds(i, l[i]);
         map.setFlags(i, flags[i]);
     }
