@@ -4,11 +4,18 @@
 #include <lcm/lcm-cpp.hpp>
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cerrno>
+#include <cstring>
+#include <memory>
 
+#include "checkpoint.hpp"
+#include "lcm_log_reader.hpp"
 #include "map_file.hpp"
 #include "mapper_config_yaml.hpp"
 #include "mapper_node.hpp"
@@ -27,9 +34,26 @@ int64_t wallUs() {
 
 void writeOutputs(MapperNode& node, const std::string& map_out) {
     node.segmentAndPublish();
-    saveMap(map_out, node.mapper().map(), node.config().variant);
-    savePly(map_out + ".ply", node.mapper().map(), node.config().mapper.segmentation.occupied_probability);
+    try {
+        saveMap(map_out, node.mapper().map(), node.config().variant);
+        savePly(map_out + ".ply", node.mapper().map(), node.config().mapper.segmentation.occupied_probability);
+    } catch (...) {
+        // A full disk: no half-written temporary is left; the last good map stays.
+        std::remove((map_out + ".tmp").c_str());
+        std::remove((map_out + ".ply.tmp").c_str());
+        throw;
+    }
     spdlog::info("map written to {} (+ .ply)", map_out);
+}
+
+// Issue 10, finding 7: a missing or read-only folder is found at start-up, not
+// after a whole mission.
+void checkWritable(const std::string& path, const char* what) {
+    const std::string probe = path + ".tmp";
+    FILE* f = std::fopen(probe.c_str(), "wb");
+    if (!f) throw std::runtime_error(std::string("cannot write the ") + what + " " + path + ": " + std::strerror(errno));
+    std::fclose(f);
+    std::remove(probe.c_str());
 }
 
 // Peak resident memory of this process (VmHWM), kB; -1 where /proc is missing.
@@ -85,20 +109,38 @@ void printSummary(MapperNode& node) {
                     o.volume_m3, o.centroid.x(), o.centroid.y(), o.centroid.z(), o.height_m);
 }
 
+// Offline: the log through the same path as live, read by our own reader,
+// which resynchronises after damage (finding 2). Returns 3 when events were
+// lost to damage (the map of everything readable is still written).
 int runOffline(MapperNode& node, const std::string& log_path) {
-    lcm::LogFile log(log_path, "r");
+    const MapperConfig& m = node.config().mapper;
+    // The largest message the config allows (an FLS frame), with room for headers.
+    const std::size_t max_data = static_cast<std::size_t>(m.fls.beams) * m.fls.rows +
+                                 4 * static_cast<std::size_t>(m.fls.beams + m.fls.rows) + 4096;
+    LcmLogReader log(log_path, max_data);
     if (!log.good()) {
         spdlog::error("cannot read LCM log {}", log_path);
         return 2;
     }
-    long events = 0;
-    while (const lcm::LogEvent* ev = log.readNextEvent()) {
-        node.handle(ev->channel, ev->data, static_cast<std::size_t>(ev->datalen));
+    const int64_t resume_at = node.inputPosition();  // events a resumed checkpoint has consumed
+    int64_t events = 0;
+    LcmLogEvent ev;
+    while (log.next(ev)) {
         ++events;
+        if (events <= resume_at) continue;
+        node.setInputPosition(events);  // a checkpoint taken while handling it has consumed it
+        node.handle(std::string(ev.channel), ev.data, ev.size);
         if (g_stop) break;
     }
     node.flush(true);
-    spdlog::info("read {} events from {}", events, log_path);
+    spdlog::info("read {} events from {}{}", events, log_path,
+                 resume_at > 0 ? fmt::format(" (resumed after {})", resume_at) : std::string());
+    const LcmLogStats& st = log.stats();
+    if (log.lostData()) {
+        spdlog::error("{}: damaged log: {} damaged region(s), {} byte(s) skipped{}", log_path, st.damaged_regions,
+                      st.skipped_bytes, st.truncated_tail ? ", cut mid-event at the end" : "");
+        return 3;
+    }
     return 0;
 }
 
@@ -134,6 +176,10 @@ int runLive(MapperNode& node, lcm::LCM& lcm) {
             last_status = wallUs();
         }
     }
+    // Finding 10: what is queued when the stop comes is still handled (and its
+    // gaps counted), bounded so a flood cannot keep the daemon from stopping.
+    for (int i = 0; i < 4 * c.queue_capacity && lcm.handleTimeout(0) > 0; ++i) {
+    }
     node.flush(true);  // finish what is in hand
     return 0;
 }
@@ -141,14 +187,17 @@ int runLive(MapperNode& node, lcm::LCM& lcm) {
 
 int main(int argc, char** argv) {
     CLI::App app{"sf-mapper: FLS + profiling-sonar fusion mapper daemon"};
-    std::string config_path, log_path, map_out, variant, lcm_url, status_out;
-    bool quiet = false;
+    std::string config_path, log_path, map_out, variant, lcm_url, status_out, checkpoint_path;
+    bool quiet = false, resume = false;
     app.add_option("--config", config_path, "mapper YAML config (docs/mapper-config.md)")->required()->check(CLI::ExistingFile);
     app.add_option("--log", log_path, "offline: read this LCM log as fast as possible instead of listening")->check(CLI::ExistingFile);
     app.add_option("--map-out", map_out, "final map file (binary; a .ply is written beside it)")->required();
     app.add_option("--variant", variant, "fls_only, carve_only, paper or fused (overrides the config's preset)");
     app.add_option("--lcm-url", lcm_url, "LCM provider URL (live mode)");
     app.add_option("--status-out", status_out, "write the final status (counts, timing) as JSON here");
+    app.add_option("--checkpoint", checkpoint_path,
+                   "write a crash-safe checkpoint here every daemon.checkpoint_period_s and at exit");
+    app.add_flag("--resume", resume, "start from the --checkpoint file if it exists (a damaged or foreign one is an error)");
     app.add_flag("--quiet", quiet, "no summary on stdout");
     CLI11_PARSE(app, argc, argv);
 
@@ -166,8 +215,23 @@ int main(int argc, char** argv) {
         spdlog::error("{}", e.what());
         return 2;
     }
+    if (resume && checkpoint_path.empty()) {
+        spdlog::error("--resume needs --checkpoint PATH");
+        return 2;
+    }
+    try {
+        checkWritable(map_out, "map (--map-out)");
+        if (!status_out.empty()) checkWritable(status_out, "status (--status-out)");
+        if (!checkpoint_path.empty()) checkWritable(checkpoint_path, "checkpoint (--checkpoint)");
+    } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 2;
+    }
+    // Finding 11: a hang-up stops the daemon like SIGINT/SIGTERM (map written).
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
+    std::signal(SIGHUP, onSignal);
+    std::signal(SIGPIPE, SIG_IGN);
 
     try {
         std::unique_ptr<lcm::LCM> lcm;
@@ -182,13 +246,46 @@ int main(int argc, char** argv) {
             pub.objects = [&](const objects_t& m) { lcm->publish(cfg.objects_channel, &m); };
             pub.map = [&](const map_snapshot_t& m) { lcm->publish(cfg.map_channel, &m); };
         }
+        MapperNode* node_ptr = nullptr;
+        std::unique_ptr<CheckpointWriter> checkpoints;
+        if (!checkpoint_path.empty())
+            pub.checkpoint = [&] {
+                if (checkpoints) (void)checkpoints->submit([&](StateWriter& w) { node_ptr->saveState(w); });
+            };
         MapperNode node(cfg, pub);
-        const int rc = log_path.empty() ? runLive(node, *lcm) : runOffline(node, log_path);
-        if (rc != 0) return rc;
+        node_ptr = &node;
+        if (!checkpoint_path.empty()) {
+            const uint64_t fingerprint = configFingerprint(cfg);
+            if (resume && access(checkpoint_path.c_str(), F_OK) == 0) {
+                const std::vector<uint8_t> state = readCheckpoint(checkpoint_path, fingerprint);
+                StateReader r(state.data(), state.size());
+                if (!node.loadState(r)) {
+                    spdlog::error("checkpoint {}: its contents do not fit this config (damaged or foreign)",
+                                  checkpoint_path);
+                    return 2;
+                }
+                spdlog::info("resumed from checkpoint {} (map {}, {} NAV so far)", checkpoint_path,
+                             node.mapper().map().initialised() ? "anchored" : "not anchored",
+                             node.mapper().counters().nav_in);
+            } else if (resume) {
+                spdlog::warn("no checkpoint at {} yet: starting fresh", checkpoint_path);
+            }
+            checkpoints = std::make_unique<CheckpointWriter>(checkpoint_path, node.stateBytesBound(), fingerprint);
+        }
+        int rc = log_path.empty() ? runLive(node, *lcm) : runOffline(node, log_path);
+        if (rc != 0 && rc != 3) return rc;
+        if (checkpoints) {  // the final state, synchronously
+            checkpoints->drain();
+            if (!checkpoints->submit([&](StateWriter& w) { node.saveState(w); })) spdlog::error("final checkpoint failed");
+            checkpoints->drain();
+            spdlog::info("checkpoints: {} written, {} failed, {} skipped (writer busy)", checkpoints->written(),
+                         checkpoints->failed(), checkpoints->skipped());
+        }
         writeOutputs(node, map_out);
         if (lcm) node.publishStatus();
         if (!status_out.empty()) writeStatusJson(node, status_out);
         if (!quiet) printSummary(node);
+        if (rc == 3) return 3;
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
         return 1;

@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -68,7 +70,9 @@ DaemonConfig loadDaemonConfig(const std::string& path) {
     apply(root["daemon"], "daemon",
           {{"status_period_s", set(d.status_period_s)}, {"segment_period_s", set(d.segment_period_s)},
            {"map_period_s", set(d.map_period_s)}, {"budget_us", set(d.budget_us)},
-           {"nav_wait_timeout_us", set(d.nav_wait_timeout_us)}, {"queue_capacity", set(d.queue_capacity)}},
+           {"nav_wait_timeout_us", set(d.nav_wait_timeout_us)}, {"queue_capacity", set(d.queue_capacity)},
+           {"fls_pending_slots", set(d.fls_pending_slots)}, {"ps_pending_slots", set(d.ps_pending_slots)},
+           {"memory_budget_mb", set(d.memory_budget_mb)}, {"checkpoint_period_s", set(d.checkpoint_period_s)}},
           path);
     apply(root["fls"], "fls",
           {{"fov_horizontal_deg", setDeg(m.fls.fov_horizontal)}, {"elevation_min_deg", setDeg(m.fls.elevation_min)},
@@ -127,10 +131,61 @@ DaemonConfig loadDaemonConfig(const std::string& path) {
            {"ps_echo_min_count", set(m.segmentation.ps_echo_min_count)}},
           path);
     apply(root["nav"], "nav",
-          {{"max_gap_us", set(m.max_nav_gap_us)}, {"buffer_capacity", set(m.nav_buffer_capacity)}}, path);
-    const std::string err = validateConfig(m);
+          {{"max_gap_us", set(m.max_nav_gap_us)}, {"buffer_capacity", set(m.nav_buffer_capacity)},
+           {"timeline_confirm", set(m.nav_timeline_confirm)}},
+          path);
+    std::string err = validateConfig(m);
+    if (err.empty()) err = validateDaemonConfig(d);
     if (!err.empty()) throw std::runtime_error(path + ": " + err);
     return d;
+}
+
+std::string validateDaemonConfig(const DaemonConfig& d) {
+    // Periods are data seconds; a day is far beyond any sensible one, and the
+    // microsecond conversion must not overflow (1e14 s published on every message).
+    auto period = [](double p) { return std::isfinite(p) && p >= 0.0 && p <= 86400.0; };
+    if (!period(d.status_period_s)) return "daemon.status_period_s must be in [0, 86400]";
+    if (!period(d.segment_period_s)) return "daemon.segment_period_s must be in [0, 86400]";
+    if (!std::isfinite(d.map_period_s) || d.map_period_s > 86400.0)
+        return "daemon.map_period_s must be <= 86400 (<= 0: off)";
+    if (!period(d.checkpoint_period_s)) return "daemon.checkpoint_period_s must be in [0, 86400]";
+    if (!std::isfinite(d.budget_us) || d.budget_us <= 0.0) return "daemon.budget_us must be > 0";
+    if (d.nav_wait_timeout_us < 1000 || d.nav_wait_timeout_us > 600000000)
+        return "daemon.nav_wait_timeout_us must be in 1000..600000000";
+    if (d.queue_capacity < 1 || d.queue_capacity > 100000) return "daemon.queue_capacity must be in 1..100000";
+    if (d.fls_pending_slots < 2 || d.fls_pending_slots > 4096) return "daemon.fls_pending_slots must be in 2..4096";
+    if (d.ps_pending_slots < 2 || d.ps_pending_slots > 65536) return "daemon.ps_pending_slots must be in 2..65536";
+    if (!std::isfinite(d.memory_budget_mb) || d.memory_budget_mb <= 0.0)
+        return "daemon.memory_budget_mb must be > 0";
+    const std::pair<const char*, const std::string*> channels[] = {
+        {"nav", &d.nav_channel},       {"fls", &d.fls_channel},         {"ps", &d.ps_channel},
+        {"status", &d.status_channel}, {"objects", &d.objects_channel}, {"map", &d.map_channel}};
+    for (const auto& [key, name] : channels) {
+        // LCM channel names are at most 63 bytes.
+        if (name->empty() || name->size() > 63) return std::string("channels.") + key + " must be 1..63 characters";
+        for (const auto& [key2, name2] : channels)
+            if (key != key2 && *name == *name2)
+                return std::string("channels.") + key + " and channels." + key2 + " must differ";
+    }
+    const double need_mb = static_cast<double>(daemonMemoryBytes(d)) / (1024.0 * 1024.0);
+    if (need_mb > d.memory_budget_mb)
+        return "the map and buffers need about " + std::to_string(static_cast<long long>(need_mb)) +
+               " MB, more than daemon.memory_budget_mb (" +
+               std::to_string(static_cast<long long>(d.memory_budget_mb)) + "): reduce map.nx/ny/nz";
+    return {};
+}
+
+std::size_t daemonMemoryBytes(const DaemonConfig& d) {
+    const MapperConfig& m = d.mapper;
+    const double voxels = static_cast<double>(m.map.nx) * m.map.ny * m.map.nz;
+    const double fls_msg = static_cast<double>(m.fls.beams) * m.fls.rows + 8.0 * (m.fls.beams + m.fls.rows) + 512.0;
+    const double ps_msg = static_cast<double>(m.ps.bins) + 512.0;
+    const double bytes = static_cast<double>(estimatedMemoryBytes(m)) +
+                         d.fls_pending_slots * fls_msg + d.ps_pending_slots * ps_msg +
+                         voxels * 9.0 +  // MAP snapshot: index, log-odds, flags
+                         voxels * 5.0 * 2.0 +  // checkpoint buffer (map copy), written from a second buffer
+                         static_cast<double>(d.queue_capacity) * std::max(fls_msg, ps_msg);  // LCM's queue
+    return bytes > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(bytes);
 }
 
 }  // namespace sonarfusion

@@ -12,8 +12,10 @@ namespace sonarfusion {
 
 namespace {
 enum Channel { kNav = 0, kFls = 1, kPs = 2 };
-constexpr int kFlsSlots = 16, kPsSlots = 64, kTimingRing = 8192;
-const char* kTransportNames[] = {"malformed", "fls_geometry_mismatch", "stale", "pending_overflow"};
+constexpr int kTimingRing = 8192;
+const char* kTransportNames[] = {"malformed", "fls_geometry_mismatch", "stale", "pending_overflow",
+                                 "ps_geometry_mismatch"};
+static_assert(sizeof(kTransportNames) / sizeof(kTransportNames[0]) == static_cast<int>(TransportReject::kCount));
 
 int64_t wallUs() {
     return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch())
@@ -21,30 +23,62 @@ int64_t wallUs() {
 }
 // The waiting message with the smallest (utime, seq), or null.
 template <class P>
-P* oldestPending(std::vector<P>& slots) {
+P* oldestPending(std::vector<P>& slots, int64_t before_epoch) {
     P* best = nullptr;
     for (P& p : slots)
-        if (p.used && (!best || p.msg.utime < best->msg.utime ||
-                       (p.msg.utime == best->msg.utime && p.msg.seq < best->msg.seq)))
+        if (p.used && p.nav_epoch < before_epoch &&
+            (!best || p.msg.utime < best->msg.utime || (p.msg.utime == best->msg.utime && p.msg.seq < best->msg.seq)))
             best = &p;
     return best;
 }
+template <class P>
+bool earlier(const P& a, const P& b) {
+    return a.msg.utime < b.msg.utime || (a.msg.utime == b.msg.utime && a.msg.seq < b.msg.seq);
+}
+// All slots are taken: free the one whose removal leaves the smallest time gap
+// between its neighbours (never the oldest or the newest), so the waiting set
+// stays spread over the time NAV is late and the map degrades gradually.
+template <class P>
+void thinOne(std::vector<P>& slots) {
+    P* victim = nullptr;
+    uint64_t best_gap = UINT64_MAX;
+    for (P& p : slots) {
+        if (!p.used) continue;
+        const P *prev = nullptr, *next = nullptr;
+        for (const P& q : slots) {
+            if (!q.used || &q == &p) continue;
+            if (earlier(q, p) && (!prev || earlier(*prev, q))) prev = &q;
+            if (earlier(p, q) && (!next || earlier(q, *next))) next = &q;
+        }
+        if (!prev || !next) continue;
+        const uint64_t gap = static_cast<uint64_t>(next->msg.utime) - static_cast<uint64_t>(prev->msg.utime);
+        if (gap < best_gap) best_gap = gap, victim = &p;
+    }
+    if (!victim)  // fewer than three waiting: drop the oldest
+        for (P& p : slots)
+            if (p.used && (!victim || earlier(p, *victim))) victim = &p;
+    victim->used = false;
+}
+bool near(double a, double b, double tol) { return std::fabs(a - b) <= tol; }
 }  // namespace
 
 MapperNode::MapperNode(const DaemonConfig& cfg, Publisher out)
     : cfg_(cfg), out_(std::move(out)), mapper_(cfg.mapper), variant_(cfg.variant) {
     // Pre-size every decoded message so decode() reuses capacity instead of allocating.
     const MapperConfig& m = cfg.mapper;
-    fls_pending_.resize(kFlsSlots);
+    limits_ = guard::limitsFor(m);
+    // One slot more than configured: a message is always decoded into a free
+    // slot, then the set is thinned if that took the last one.
+    fls_pending_.resize(static_cast<std::size_t>(cfg.fls_pending_slots) + 1);
     for (auto& p : fls_pending_) {
         p.msg.beam_bearing.reserve(m.fls.beams);
         p.msg.row_range.reserve(m.fls.rows);
         p.msg.data.reserve(static_cast<std::size_t>(m.fls.rows) * m.fls.beams);
         p.msg.sensor_name.reserve(64);
     }
-    ps_pending_.resize(kPsSlots);
+    ps_pending_.resize(static_cast<std::size_t>(cfg.ps_pending_slots) + 1);
     for (auto& p : ps_pending_) {
-        p.msg.intensity.reserve(std::max(m.ps.bins, 4096));
+        p.msg.intensity.reserve(m.ps.bins);
         p.msg.sensor_name.reserve(64);
     }
     proc_us_.assign(kTimingRing, 0.0);
@@ -89,9 +123,17 @@ void MapperNode::onNav(const void* data, std::size_t size) {
     }
     trackSeq(kNav, nav_msg_.seq);
     const TimedPose p = timedPoseOf(nav_msg_);
-    if (mapper_.addNav(p) == Outcome::Used) newest_nav_utime_ = p.utime;
+    // A confirmed NAV time jump replaces the NAV history: first settle what
+    // arrived before the new timeline began, against the old one.
+    if (mapper_.navWouldReset(p)) flushOrdered(true, nav_epoch_);
+    const bool was_pending = mapper_.navTimelinePending();
+    const Outcome o = mapper_.addNav(p);
+    if (o == Outcome::NavTimeJump && (!was_pending || mapper_.navCandidateCount() == 1)) ++nav_epoch_;
+    newest_nav_utime_ = mapper_.newestNavUtime().value_or(INT64_MIN);
     flush(false);
-    maybePeriodic(p.utime);
+    // Periodic outputs run on accepted NAV time only: a glitch stamp must not
+    // drive them (issue 10, finding 3).
+    if (o == Outcome::Used) maybePeriodic(newest_nav_utime_);
 }
 
 template <class Msg>
@@ -102,12 +144,7 @@ void MapperNode::enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int ch
         return;
     }
     auto is_free = [](const Pending<Msg>& p) { return !p.used; };
-    auto slot = std::find_if(slots.begin(), slots.end(), is_free);
-    if (slot == slots.end()) {
-        flush(true);  // every slot waits: process them rather than drop this one
-        ++rejects_[static_cast<int>(TransportReject::PendingOverflow)];
-        slot = std::find_if(slots.begin(), slots.end(), is_free);
-    }
+    auto slot = std::find_if(slots.begin(), slots.end(), is_free);  // there is always one (see the constructor)
     if (slot->msg.decode(data, 0, static_cast<int>(size)) < 0) {
         ++rejects_[static_cast<int>(TransportReject::Malformed)];
         return;
@@ -115,24 +152,35 @@ void MapperNode::enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int ch
     trackSeq(channel, slot->msg.seq);
     slot->used = true;
     slot->arrival_wall_us = wallUs();
+    slot->nav_epoch = nav_epoch_;
+    if (std::find_if(slots.begin(), slots.end(), is_free) == slots.end()) {
+        thinOne(slots);
+        ++rejects_[static_cast<int>(TransportReject::PendingOverflow)];
+    }
     flush(false);
 }
 
 void MapperNode::onFls(const void* data, std::size_t size) {
-    enqueue(fls_pending_, guard::checkFls(data, size) == guard::Verdict::Ok, kFls, data, size);
+    enqueue(fls_pending_, guard::checkFls(data, size, limits_) == guard::Verdict::Ok, kFls, data, size);
 }
 
 void MapperNode::onPs(const void* data, std::size_t size) {
-    enqueue(ps_pending_, guard::checkPs(data, size) == guard::Verdict::Ok, kPs, data, size);
+    enqueue(ps_pending_, guard::checkPs(data, size, limits_) == guard::Verdict::Ok, kPs, data, size);
 }
 
 // Sonar messages are processed only once a NAV strictly after them has arrived
 // (or on force), in (utime, PS before FLS, seq) order: the map then never
-// depends on how the transport interleaved the channels.
+// depends on how the transport interleaved the channels. While NAV samples are
+// held as a possible new timeline, nothing is processed (unless forced).
 void MapperNode::flush(bool force) {
+    if (!force && mapper_.navTimelinePending()) return;
+    flushOrdered(force, INT64_MAX);
+}
+
+void MapperNode::flushOrdered(bool force, int64_t before_epoch) {
     for (;;) {
-        PendingPs* ps = oldestPending(ps_pending_);
-        PendingFls* fls = oldestPending(fls_pending_);
+        PendingPs* ps = oldestPending(ps_pending_, before_epoch);
+        PendingFls* fls = oldestPending(fls_pending_, before_epoch);
         if (!ps && !fls) return;
         const bool take_ps = ps && (!fls || ps->msg.utime <= fls->msg.utime);
         const int64_t utime = take_ps ? ps->msg.utime : fls->msg.utime;
@@ -147,6 +195,13 @@ void MapperNode::flush(bool force) {
     }
 }
 
+int MapperNode::pendingCount() const {
+    int n = 0;
+    for (const auto& p : fls_pending_) n += p.used;
+    for (const auto& p : ps_pending_) n += p.used;
+    return n;
+}
+
 void MapperNode::tick(int64_t now_wall_us) {
     bool stale = false;
     for (const auto& p : ps_pending_) stale |= p.used && now_wall_us - p.arrival_wall_us > cfg_.nav_wait_timeout_us;
@@ -156,20 +211,45 @@ void MapperNode::tick(int64_t now_wall_us) {
 
 bool MapperNode::flsGeometryMatches(const fls_image_t& m) const {
     const FlsModel& model = mapper_.flsModel();
+    const MapperConfig& c = cfg_.mapper;
+    // The fields the sensor model takes from the config must agree with the
+    // message (issue 10, finding 5): NaN or 0 there is a misconfigured driver.
+    constexpr double kAngleTol = 0.5 * kDegToRad, kMountTol = 0.01;
+    if (!near(m.tilt, c.fls.tilt, kAngleTol) || !near(m.elevation_min, c.fls.elevation_min, kAngleTol) ||
+        !near(m.elevation_max, c.fls.elevation_max, kAngleTol) || !near(m.mount_xyz[0], c.fls_mount.x, kMountTol) ||
+        !near(m.mount_xyz[1], c.fls_mount.y, kMountTol) || !near(m.mount_xyz[2], c.fls_mount.z, kMountTol) ||
+        !near(m.mount_roll_yaw[0], c.fls_mount.roll, kAngleTol) || !near(m.mount_roll_yaw[1], c.fls_mount.yaw, kAngleTol))
+        return false;
     if (m.num_beams != model.cols() || m.num_ranges != model.rows()) return true;  // size check is libfusion's
     // Ranges and bearings must agree with the configured tables within a tenth of a bin/beam.
     const double dr = std::fabs(model.rangeOfRow(0) - model.rangeOfRow(1));
     for (int r : {0, m.num_ranges / 2, m.num_ranges - 1})
         if (!(std::fabs(m.row_range[r] - model.rangeOfRow(r)) <= 0.1 * dr + 1e-4)) return false;
     const double db = m.num_beams > 1 ? std::fabs(model.bearingOfColumn(1) - model.bearingOfColumn(0)) : 1.0;
-    for (int c : {0, m.num_beams / 2, m.num_beams - 1})
-        if (!(std::fabs(m.beam_bearing[c] - model.bearingOfColumn(c)) <= 0.1 * db + 1e-5)) return false;
+    for (int c2 : {0, m.num_beams / 2, m.num_beams - 1})
+        if (!(std::fabs(m.beam_bearing[c2] - model.bearingOfColumn(c2)) <= 0.1 * db + 1e-5)) return false;
+    return true;
+}
+
+bool MapperNode::psGeometryMatches(const ps_ping_t& m) const {
+    const MapperConfig& c = cfg_.mapper;
+    constexpr double kAngleTol = 0.5 * kDegToRad, kMountTol = 0.01, kHeadTol = 1.0 * kDegToRad;
+    if (!near(m.tilt, c.ps.tilt, kAngleTol) || !near(m.fan_min, c.ps.fan_min, kAngleTol) ||
+        !near(m.fan_max, c.ps.fan_max, kAngleTol) || !near(m.mount_xyz[0], c.ps_mount.x, kMountTol) ||
+        !near(m.mount_xyz[1], c.ps_mount.y, kMountTol) || !near(m.mount_xyz[2], c.ps_mount.z, kMountTol) ||
+        !near(m.mount_roll_yaw[0], c.ps_mount.roll, kAngleTol) || !near(m.mount_roll_yaw[1], c.ps_mount.yaw, kAngleTol))
+        return false;
+    // The head sweeps its configured sector; the range window may be shorter than
+    // the sonar's (a range setting) but not longer: a 100 m ping from a 10 m sonar
+    // would anchor the map 0.8 m off (finding 5).
+    if (!(m.head_angle >= c.ps.head_min - kHeadTol && m.head_angle <= c.ps.head_max + kHeadTol)) return false;
+    const double bin = (c.ps.range_max - c.ps.range_min) / std::max(1, c.ps.bins - 1);
+    if (!(m.range_min >= c.ps.range_min - bin && m.range_max <= c.ps.range_max + bin)) return false;
     return true;
 }
 
 void MapperNode::processFls(fls_image_t& m) {
     const auto start = std::chrono::steady_clock::now();
-    newest_data_utime_ = std::max(newest_data_utime_, m.utime);
     if (!flsGeometryMatches(m)) {
         ++rejects_[static_cast<int>(TransportReject::FlsGeometryMismatch)];
         return;
@@ -181,13 +261,18 @@ void MapperNode::processFls(fls_image_t& m) {
     f.data = reinterpret_cast<const uint8_t*>(m.data.data());
     f.data_size = m.data.size();
     if (static_cast<int64_t>(m.data_size) != static_cast<int64_t>(m.num_ranges) * m.num_beams) f.data_size = 0;
-    mapper_.addFls(f);
+    // Output stamps follow data that was used: a rejected INT64_MAX stamp must
+    // not stamp every later status (finding 3).
+    if (mapper_.addFls(f) == Outcome::Used) newest_data_utime_ = std::max(newest_data_utime_, m.utime);
     recordTime(start);
 }
 
 void MapperNode::processPs(ps_ping_t& m) {
     const auto start = std::chrono::steady_clock::now();
-    newest_data_utime_ = std::max(newest_data_utime_, m.utime);
+    if (!psGeometryMatches(m)) {
+        ++rejects_[static_cast<int>(TransportReject::PsGeometryMismatch)];
+        return;
+    }
     PsPing p;
     p.utime = m.utime;
     p.head_angle = m.head_angle;
@@ -195,7 +280,7 @@ void MapperNode::processPs(ps_ping_t& m) {
     p.range_max = m.range_max;
     p.bins = m.num_bins;
     p.intensity = reinterpret_cast<const uint8_t*>(m.intensity.data());
-    mapper_.addPs(p);
+    if (mapper_.addPs(p) == Outcome::Used) newest_data_utime_ = std::max(newest_data_utime_, m.utime);
     recordTime(start);
 }
 
@@ -231,6 +316,7 @@ void MapperNode::maybePeriodic(int64_t utime) {
         return false;
     };
     if (due(last_status_utime_, cfg_.status_period_s)) publishStatus();
+    if (out_.checkpoint && due(last_checkpoint_utime_, cfg_.checkpoint_period_s)) out_.checkpoint();
     if (mapper_.map().initialised() && due(last_segment_utime_, cfg_.segment_period_s)) segmentAndPublish();
     if (out_.map && mapper_.map().initialised() && due(last_map_utime_, cfg_.map_period_s)) {
         map_snapshot_t& snap = snapshot_msg_;
@@ -315,6 +401,85 @@ void MapperNode::publishStatus() {
     if (!out_.status) return;
     out_.status(status());
     ++status_seq_;
+}
+
+namespace {
+template <class Msg>
+std::size_t encodedBound(const MapperConfig& m);
+template <>
+std::size_t encodedBound<fls_image_t>(const MapperConfig& m) {
+    return 256 + 256 + 4 * static_cast<std::size_t>(m.fls.beams + m.fls.rows) +
+           static_cast<std::size_t>(m.fls.beams) * m.fls.rows;
+}
+template <>
+std::size_t encodedBound<ps_ping_t>(const MapperConfig& m) {
+    return 256 + 256 + static_cast<std::size_t>(m.ps.bins);
+}
+
+template <class P>
+void savePending(StateWriter& w, const std::vector<P>& slots) {
+    uint64_t n = 0;
+    for (const P& p : slots) n += p.used;
+    w.pod(n);
+    for (const P& p : slots) {
+        if (!p.used) continue;
+        const int size = p.msg.getEncodedSize();
+        w.pod(p.nav_epoch);
+        w.pod(static_cast<uint32_t>(size));
+        if (uint8_t* at = w.reserve(static_cast<std::size_t>(size))) p.msg.encode(at, 0, size);
+    }
+}
+
+template <class P, class Check>
+bool loadPending(StateReader& r, std::vector<P>& slots, Check check) {
+    uint64_t n = 0;
+    if (!r.pod(n) || n >= slots.size()) return false;
+    for (P& p : slots) p.used = false;
+    for (uint64_t i = 0; i < n; ++i) {
+        int64_t epoch = 0;
+        uint32_t size = 0;
+        if (!r.pod(epoch) || !r.pod(size)) return false;
+        const uint8_t* bytes = r.view(size);
+        if (!bytes || !check(bytes, size) || slots[i].msg.decode(bytes, 0, static_cast<int>(size)) < 0) return false;
+        slots[i].used = true;
+        slots[i].nav_epoch = epoch;
+        slots[i].arrival_wall_us = wallUs();
+    }
+    return true;
+}
+}  // namespace
+
+std::size_t MapperNode::stateBytesBound() const {
+    const MapperConfig& m = cfg_.mapper;
+    return mapper_.stateBytesBound() + 1024 + fls_pending_.size() * (16 + encodedBound<fls_image_t>(m)) +
+           ps_pending_.size() * (16 + encodedBound<ps_ping_t>(m));
+}
+
+void MapperNode::saveState(StateWriter& w) const {
+    mapper_.saveState(w);
+    w.pod(last_seq_);
+    w.pod(gaps_);
+    w.pod(rejects_);
+    for (int64_t v : {nav_epoch_, status_seq_, objects_seq_, map_seq_, last_status_utime_, last_segment_utime_,
+                      last_map_utime_, last_checkpoint_utime_, newest_data_utime_, input_position_, overruns_})
+        w.pod(v);
+    savePending(w, fls_pending_);
+    savePending(w, ps_pending_);
+}
+
+bool MapperNode::loadState(StateReader& r) {
+    if (!mapper_.loadState(r) || !r.pod(last_seq_) || !r.pod(gaps_) || !r.pod(rejects_)) return false;
+    for (int64_t* v : {&nav_epoch_, &status_seq_, &objects_seq_, &map_seq_, &last_status_utime_, &last_segment_utime_,
+                       &last_map_utime_, &last_checkpoint_utime_, &newest_data_utime_, &input_position_, &overruns_})
+        if (!r.pod(*v)) return false;
+    const bool ok =
+        loadPending(r, fls_pending_,
+                    [&](const uint8_t* b, std::size_t n) { return guard::checkFls(b, n, limits_) == guard::Verdict::Ok; }) &&
+        loadPending(r, ps_pending_,
+                    [&](const uint8_t* b, std::size_t n) { return guard::checkPs(b, n, limits_) == guard::Verdict::Ok; });
+    if (!ok || !r.atEnd()) return false;
+    newest_nav_utime_ = mapper_.newestNavUtime().value_or(INT64_MIN);
+    return true;
 }
 
 }  // namespace sonarfusion

@@ -19,12 +19,20 @@
 #include <sonarfusion/ps_ping_t.hpp>
 
 #include "mapper_config_yaml.hpp"
+#include "message_guard.hpp"
 #include "sonarfusion/mapper.hpp"
 
 namespace sonarfusion {
 
 // Reasons the daemon rejects a message before libfusion sees it.
-enum class TransportReject : int { Malformed = 0, FlsGeometryMismatch, Stale, PendingOverflow, kCount };
+enum class TransportReject : int {
+    Malformed = 0,
+    FlsGeometryMismatch,  // bearings, ranges, tilt, aperture or mounting disagree with the config
+    Stale,
+    PendingOverflow,      // all waiting slots taken: one waiting message was thinned out
+    PsGeometryMismatch,   // fan, tilt, mounting, range window or head angle outside the configured sonar
+    kCount
+};
 
 class MapperNode {
 public:
@@ -32,6 +40,8 @@ public:
         std::function<void(const mapper_status_t&)> status;
         std::function<void(const objects_t&)> objects;
         std::function<void(const map_snapshot_t&)> map;
+        // Called every daemon.checkpoint_period_s of accepted NAV time (if set).
+        std::function<void()> checkpoint;
     };
 
     MapperNode(const DaemonConfig& cfg, Publisher out);
@@ -41,11 +51,24 @@ public:
     // Processes every pending sonar message that NAV now brackets; with
     // `force`, also those still waiting (end of a log, or a NAV timeout).
     void flush(bool force);
+    // Sonar slots the daemon holds (for tests and the checkpoint).
+    [[nodiscard]] int pendingCount() const;
     // Called periodically in live mode: releases messages that waited too long.
     void tick(int64_t now_wall_us);
 
     void segmentAndPublish();
     void publishStatus();
+
+    // Checkpoints (checkpoint.hpp): the pipeline, the waiting sonar messages,
+    // the counters and sequence state. loadState needs a node built from the
+    // same config; false on any mismatch (then discard the node).
+    void saveState(StateWriter& w) const;
+    [[nodiscard]] bool loadState(StateReader& r);
+    [[nodiscard]] std::size_t stateBytesBound() const;
+    // Offline runs: how many log events a checkpoint taken now has consumed, so
+    // a resumed run skips exactly those.
+    void setInputPosition(int64_t events) { input_position_ = events; }
+    [[nodiscard]] int64_t inputPosition() const { return input_position_; }
 
     [[nodiscard]] const Mapper& mapper() const { return mapper_; }
     [[nodiscard]] const DaemonConfig& config() const { return cfg_; }
@@ -63,6 +86,7 @@ private:
         Msg msg;
         bool used = false;
         int64_t arrival_wall_us = 0;
+        int64_t nav_epoch = 0;  // which NAV timeline was current when it arrived
     };
     using PendingFls = Pending<fls_image_t>;
     using PendingPs = Pending<ps_ping_t>;
@@ -70,6 +94,9 @@ private:
     // Guard verdict, free slot (flushing if all are taken), decode, seq tracking.
     template <class Msg>
     void enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int channel, const void* data, std::size_t size);
+    // Processes waiting messages in order; `before_epoch` limits it to those that
+    // arrived before that NAV timeline began.
+    void flushOrdered(bool force, int64_t before_epoch);
 
     void onNav(const void* data, std::size_t size);
     void onFls(const void* data, std::size_t size);
@@ -77,6 +104,7 @@ private:
     void processFls(fls_image_t& m);
     void processPs(ps_ping_t& m);
     bool flsGeometryMatches(const fls_image_t& m) const;
+    bool psGeometryMatches(const ps_ping_t& m) const;
     void trackSeq(int channel, int64_t seq);
     void recordTime(std::chrono::steady_clock::time_point start);
     void maybePeriodic(int64_t data_utime);
@@ -92,6 +120,8 @@ private:
     std::array<int64_t, 3> gaps_{};
     std::array<int64_t, static_cast<int>(TransportReject::kCount)> rejects_{};
     int64_t newest_nav_utime_ = INT64_MIN;
+    int64_t nav_epoch_ = 0;
+    guard::Limits limits_;
     std::vector<double> proc_us_;  // ring of recent processing times
     mutable std::vector<double> scratch_;
     std::size_t proc_count_ = 0;
@@ -100,6 +130,8 @@ private:
     int64_t status_seq_ = 0, objects_seq_ = 0, map_seq_ = 0;
     int64_t last_status_utime_ = INT64_MIN, last_segment_utime_ = INT64_MIN, last_map_utime_ = INT64_MIN;
     int64_t newest_data_utime_ = 0;
+    int64_t last_checkpoint_utime_ = INT64_MIN;
+    int64_t input_position_ = 0;
     // Outgoing messages, sized at start-up and refilled in place.
     mapper_status_t status_msg_;
     objects_t objects_msg_;

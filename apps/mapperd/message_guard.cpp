@@ -43,9 +43,11 @@ public:
         return true;
     }
     // LCM string: int32 length including the NUL, then the bytes.
-    bool string() {
+    Verdict string(int32_t max_len) {
         int32_t len = 0;
-        return int32(len) && len >= 1 && skip(static_cast<std::size_t>(len));
+        if (!int32(len)) return Verdict::Truncated;
+        if (len < 1 || len > max_len) return Verdict::BadCount;
+        return skip(static_cast<std::size_t>(len)) ? Verdict::Ok : Verdict::Truncated;
     }
     // An array count that must be >= 0 and whose elements fit in what is left.
     Verdict array(int32_t& count, std::size_t elem, int32_t max_count) {
@@ -79,8 +81,16 @@ Verdict fingerprint(Cursor& c, int64_t expected) {
         if (v_ != Verdict::Ok) return v_; \
     } while (0)
 
-constexpr int32_t kMaxBeams = 4096, kMaxRanges = 16384, kMaxPixels = 16 * 1024 * 1024, kMaxBins = 65536;
 }  // namespace
+
+Limits limitsFor(const MapperConfig& cfg) {
+    Limits l;
+    l.fls_beams = cfg.fls.beams;
+    l.fls_rows = cfg.fls.rows;
+    l.fls_pixels = cfg.fls.beams * cfg.fls.rows;
+    l.ps_bins = cfg.ps.bins;
+    return l;
+}
 
 Verdict checkNav(const void* data, std::size_t size) {
     Cursor c(data, size);
@@ -89,27 +99,27 @@ Verdict checkNav(const void* data, std::size_t size) {
     return c.atEnd() ? Verdict::Ok : Verdict::Trailing;
 }
 
-Verdict checkFls(const void* data, std::size_t size) {
+Verdict checkFls(const void* data, std::size_t size, const Limits& limits) {
     Cursor c(data, size);
     SF_CHECK(fingerprint(c, fls_image_t::getHash()));
     SF_TRY(c.skip(8 + 8));  // utime, seq
-    SF_TRY(c.string());     // sensor_name
+    SF_CHECK(c.string(limits.name_bytes));  // sensor_name
     SF_TRY(c.skip(4 + 4 + 3 * 4 + 2 * 4 + 4 + 4 + 4));
     int32_t beams = 0, ranges = 0, pixels = 0;
-    SF_CHECK(c.array(beams, 4, kMaxBeams));
-    SF_CHECK(c.array(ranges, 4, kMaxRanges));
-    SF_CHECK(c.array(pixels, 1, kMaxPixels));
+    SF_CHECK(c.array(beams, 4, limits.fls_beams));
+    SF_CHECK(c.array(ranges, 4, limits.fls_rows));
+    SF_CHECK(c.array(pixels, 1, limits.fls_pixels));
     return c.atEnd() ? Verdict::Ok : Verdict::Trailing;
 }
 
-Verdict checkPs(const void* data, std::size_t size) {
+Verdict checkPs(const void* data, std::size_t size, const Limits& limits) {
     Cursor c(data, size);
     SF_CHECK(fingerprint(c, ps_ping_t::getHash()));
     SF_TRY(c.skip(8 + 8));
-    SF_TRY(c.string());
+    SF_CHECK(c.string(limits.name_bytes));
     SF_TRY(c.skip(3 * 4 + 2 * 4 + 4 + 4 + 4 + 4 + 4 + 4));
     int32_t bins = 0;
-    SF_CHECK(c.array(bins, 1, kMaxBins));
+    SF_CHECK(c.array(bins, 1, limits.ps_bins));
     return c.atEnd() ? Verdict::Ok : Verdict::Trailing;
 }
 

@@ -8,13 +8,27 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "sonarfusion/config.hpp"
+
 namespace sonarfusion::guard {
 
 enum class Verdict { Ok, Truncated, BadFingerprint, BadCount, Trailing };
 [[nodiscard]] const char* verdictName(Verdict v);
 
+// The largest counts a message may claim. The daemon passes its configured
+// sonar's sizes, so a frame bigger than the buffers sized at start-up is refused
+// before decode and memory stays fixed (issue 10, finding 9).
+struct Limits {
+    int32_t fls_beams = kMaxFlsBeams;
+    int32_t fls_rows = kMaxFlsRows;
+    int32_t fls_pixels = kMaxFlsBeams * 4096;
+    int32_t ps_bins = kMaxPsBins;
+    int32_t name_bytes = 256;  // sensor_name, including its NUL
+};
+[[nodiscard]] Limits limitsFor(const MapperConfig& cfg);
+
 [[nodiscard]] Verdict checkNav(const void* data, std::size_t size);
-[[nodiscard]] Verdict checkFls(const void* data, std::size_t size);
-[[nodiscard]] Verdict checkPs(const void* data, std::size_t size);
+[[nodiscard]] Verdict checkFls(const void* data, std::size_t size, const Limits& limits = {});
+[[nodiscard]] Verdict checkPs(const void* data, std::size_t size, const Limits& limits = {});
 
 }  // namespace sonarfusion::guard

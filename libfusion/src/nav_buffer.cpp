@@ -45,4 +45,23 @@ PoseLookup NavBuffer::poseAt(int64_t utime, Pose& out) const {
     return PoseLookup::Ok;
 }
 
+void NavBuffer::saveState(StateWriter& w) const {
+    w.pod(static_cast<uint64_t>(ring_.size()));
+    w.pod(count_);
+    for (int i = 0; i < count_; ++i) saveTimedPose(w, at(i));  // oldest first
+}
+
+bool NavBuffer::loadState(StateReader& r) {
+    int c = 0;
+    if (!r.expect(ring_.size()) || !r.pod(c) || c < 0 || c > static_cast<int>(ring_.size())) return false;
+    head_ = 0;
+    count_ = 0;
+    for (int i = 0; i < c; ++i) {
+        TimedPose p;
+        if (!loadTimedPose(r, p)) return false;
+        if (add(p) != AddResult::Ok) return false;  // must be finite and in order, as when it was written
+    }
+    return true;
+}
+
 }  // namespace sonarfusion

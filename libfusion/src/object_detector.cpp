@@ -135,4 +135,46 @@ bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
     return true;
 }
 
+namespace {
+void saveRing(StateWriter& w, const std::vector<Eigen::Vector3d>& ring, int count, int next) {
+    w.pod(static_cast<uint64_t>(ring.size()));
+    w.pod(count);
+    w.pod(next);
+    for (const Eigen::Vector3d& p : ring)
+        for (int i = 0; i < 3; ++i) w.pod(p[i]);
+}
+bool loadRing(StateReader& r, std::vector<Eigen::Vector3d>& ring, int& count, int& next) {
+    int c = 0, n = 0;
+    if (!r.expect(ring.size()) || !r.pod(c) || !r.pod(n)) return false;
+    const int cap = static_cast<int>(ring.size());
+    if (c < 0 || c > cap || n < 0 || n >= std::max(cap, 1)) return false;
+    for (Eigen::Vector3d& p : ring)
+        for (int i = 0; i < 3; ++i)
+            if (!r.pod(p[i])) return false;
+    count = c, next = n;
+    return true;
+}
+}  // namespace
+
+void ObjectDetector::saveState(StateWriter& w) const {
+    saveRing(w, seabed_, seabed_count_, seabed_next_);
+    saveRing(w, risen_, risen_count_, risen_next_);
+    w.pod(last_xy_.x());
+    w.pod(last_xy_.y());
+    w.pod(static_cast<uint8_t>(detection_.has_value()));
+    const Eigen::Vector3d d = detection_.value_or(Eigen::Vector3d::Zero());
+    for (int i = 0; i < 3; ++i) w.pod(d[i]);
+}
+
+bool ObjectDetector::loadState(StateReader& r) {
+    uint8_t has = 0;
+    Eigen::Vector3d d;
+    if (!loadRing(r, seabed_, seabed_count_, seabed_next_) || !loadRing(r, risen_, risen_count_, risen_next_) ||
+        !r.pod(last_xy_.x()) || !r.pod(last_xy_.y()) || !r.pod(has) || !r.pod(d[0]) || !r.pod(d[1]) || !r.pod(d[2]))
+        return false;
+    detection_.reset();
+    if (has) detection_ = d;
+    return true;
+}
+
 }  // namespace sonarfusion

@@ -24,4 +24,17 @@ Eigen::Vector2d TrackAxis::axis(double min_concentration) const {
     return Eigen::Vector2d(std::cos(heading), std::sin(heading));
 }
 
+void TrackAxis::saveState(StateWriter& w) const {
+    w.pod(sum_cos2_);
+    w.pod(sum_sin2_);
+    w.pod(static_cast<int64_t>(count_));
+}
+
+bool TrackAxis::loadState(StateReader& r) {
+    int64_t c = 0;
+    if (!r.pod(sum_cos2_) || !r.pod(sum_sin2_) || !r.pod(c) || c < 0) return false;
+    count_ = static_cast<long>(c);
+    return true;
+}
+
 }  // namespace sonarfusion

@@ -9,7 +9,7 @@ namespace sonarfusion {
 VoxelMap::VoxelMap(const MapConfig& cfg)
     : nx_(cfg.nx), ny_(cfg.ny), nz_(cfg.nz), resolution_(cfg.resolution),
       clamp_min_(cfg.clamp_min), clamp_max_(cfg.clamp_max), snap_to_lattice_(cfg.snap_to_world_lattice) {
-    if (nx_ <= 0 || ny_ <= 0 || nz_ <= 0 || nx_ > 4096 || ny_ > 4096 || nz_ > 4096)
+    if (nx_ <= 0 || ny_ <= 0 || nz_ <= 0 || nx_ > kMaxMapCells || ny_ > kMaxMapCells || nz_ > kMaxMapCells)
         throw std::invalid_argument("map dimensions must be in 1..4096");
     if (!(resolution_ > 0.0) || !std::isfinite(resolution_))
         throw std::invalid_argument("map resolution must be a positive number");
@@ -30,6 +30,31 @@ void VoxelMap::initialiseAt(const Eigen::Vector3d& centre) {
     origin_ = centre - 0.5 * extent();
     if (snap_to_lattice_) origin_ = (origin_ / resolution_).array().round().matrix() * resolution_;
     initialised_ = true;
+}
+
+void VoxelMap::saveState(StateWriter& w) const {
+    w.pod(static_cast<uint64_t>(log_odds_.size()));
+    w.pod(static_cast<uint8_t>(initialised_));
+    for (int i = 0; i < 3; ++i) w.pod(origin_[i]);
+    w.bytes(log_odds_.data(), log_odds_.size() * sizeof(float));
+    w.bytes(flags_.data(), flags_.size());
+}
+
+bool VoxelMap::loadState(StateReader& r) {
+    uint8_t init = 0;
+    if (!r.expect(log_odds_.size()) || !r.pod(init)) return false;
+    Eigen::Vector3d o;
+    for (int i = 0; i < 3; ++i)
+        if (!r.pod(o[i])) return false;
+    if (!o.allFinite() || init > 1) return false;
+    if (!r.bytes(log_odds_.data(), log_odds_.size() * sizeof(float)) || !r.bytes(flags_.data(), flags_.size()))
+        return false;
+    for (float& l : log_odds_)  // never trust a value from disk to be inside the clamp
+        if (!std::isfinite(l)) return false;
+        else l = std::min(std::max(l, clamp_min_), clamp_max_);
+    origin_ = o;
+    initialised_ = init != 0;
+    return true;
 }
 
 Eigen::Vector3d VoxelMap::centre() const { return origin_ + 0.5 * extent(); }

@@ -81,9 +81,78 @@ TEST(BadInput, MessagesWithoutABracketingPoseAreRejected) {
     auto p = test::blankPing(500, 10.0, 5000, 0.0);  // after the newest NAV: no extrapolation
     p.bins[240] = 255;
     EXPECT_EQ(m.addPs(p.view), Outcome::NoPose);
-    m.addNav(test::trackPose(2000 + 10000000, 0.0));  // a 10 s NAV gap
-    EXPECT_EQ(m.addPs(p.view), Outcome::NavGapTooLarge);
     EXPECT_EQ(m.addNav(test::trackPose(1500, 0.0)), Outcome::NavOutOfOrder);
+    EXPECT_EQ(m.addNav(test::trackPose(2000, 0.0)), Outcome::NavOutOfOrder);  // repeated
+    // A 10 s NAV dropout: the samples after it form a new timeline once three
+    // agree; the ping inside the gap has nothing to interpolate between.
+    for (int i = 0; i < 3; ++i) m.addNav(test::trackPose(2000 + 10000000 + i * 20000, 0.0));
+    EXPECT_EQ(m.counters().nav_timeline_resets, 1);
+    EXPECT_EQ(m.addPs(p.view), Outcome::NoPose);
+    EXPECT_EQ(reason(m, Outcome::NavTimeJump), 0);  // held, then used
+    EXPECT_EQ(m.counters().nav_used, 5);
+}
+
+namespace {
+// NAV every 20 ms along x at 1 m/s from t0 (us), n samples, starting at x0.
+void navRun(Mapper& m, int64_t t0, int n, double x0) {
+    for (int i = 0; i < n; ++i) m.addNav(test::trackPose(t0 + i * 20000, x0 + 0.02 * i));
+}
+}  // namespace
+
+// Issue 10, finding 3: one NAV stamped INT64_MAX (or ten years ahead) made every
+// later NAV out of order and every sonar message unplaceable.
+TEST(BadInput, OneNavStampedFarAheadIsAGlitchNotTheNewTimeline) {
+    for (int64_t glitch : {std::numeric_limits<int64_t>::max(), int64_t{1000000} + int64_t{315360000} * 1000000}) {
+        Mapper m{MapperConfig{}};
+        navRun(m, 1000000, 50, 0.0);
+        EXPECT_EQ(m.addNav(test::trackPose(glitch, 5.0)), Outcome::NavTimeJump);
+        EXPECT_TRUE(m.navTimelinePending());
+        EXPECT_EQ(m.addNav(test::trackPose(1000000 + 50 * 20000, 1.0)), Outcome::Used);
+        EXPECT_FALSE(m.navTimelinePending());
+        navRun(m, 1000000 + 51 * 20000, 50, 1.02);
+        EXPECT_EQ(reason(m, Outcome::NavOutOfOrder), 0);
+        EXPECT_EQ(reason(m, Outcome::NavTimeJump), 1);
+        EXPECT_EQ(m.counters().nav_timeline_resets, 0);
+        const auto pose = m.navPoseAt(1000000 + 75 * 20000 + 10000);
+        ASSERT_TRUE(pose);
+        EXPECT_NEAR(pose->position.x(), 1.51, 1e-9);
+        EXPECT_EQ(*m.newestNavUtime(), 1000000 + 100 * 20000);
+    }
+}
+
+// Issue 10, finding 4: after a clock step back, sonar was interpolated against
+// the stale NAV of the old timeline still in the buffer.
+TEST(BadInput, AClockStepBackStartsANewTimelineAndNeverMixesTheOld) {
+    Mapper m{MapperConfig{}};
+    navRun(m, 100000000, 100, 0.0);  // t = 100..102 s, x = 0..2 m
+    // The clock steps back 60 s; the vehicle is now 50 m on.
+    EXPECT_EQ(m.addNav(test::trackPose(41000000, 50.0)), Outcome::NavTimeJump);
+    EXPECT_EQ(m.addNav(test::trackPose(41020000, 50.02)), Outcome::NavTimeJump);
+    EXPECT_FALSE(m.navWouldReset(test::trackPose(41020000, 50.02)));
+    EXPECT_TRUE(m.navWouldReset(test::trackPose(41040000, 50.04)));
+    EXPECT_EQ(m.addNav(test::trackPose(41040000, 50.04)), Outcome::Used);
+    EXPECT_EQ(m.counters().nav_timeline_resets, 1);
+    navRun(m, 41060000, 10, 50.06);
+    const auto pose = m.navPoseAt(41050000);
+    ASSERT_TRUE(pose);
+    EXPECT_NEAR(pose->position.x(), 50.05, 1e-9);
+    // Nothing of the old timeline is left to interpolate against.
+    EXPECT_FALSE(m.navPoseAt(100500000));
+    EXPECT_EQ(reason(m, Outcome::NavTimeJump), 0);
+    EXPECT_EQ(m.counters().nav_used, 113);
+}
+
+TEST(BadInput, HeldNavThatDoesNotContinueItselfRestartsTheCandidate) {
+    MapperConfig cfg;
+    cfg.nav_timeline_confirm = 2;
+    Mapper m{cfg};
+    navRun(m, 1000000, 10, 0.0);
+    EXPECT_EQ(m.addNav(test::trackPose(900000000, 1.0)), Outcome::NavTimeJump);
+    EXPECT_EQ(m.addNav(test::trackPose(500000000, 1.0)), Outcome::NavTimeJump);  // not continuous with it
+    EXPECT_EQ(m.navCandidateCount(), 1);
+    EXPECT_EQ(m.addNav(test::trackPose(500020000, 1.0)), Outcome::Used);  // confirms the second
+    EXPECT_EQ(*m.newestNavUtime(), 500020000);
+    EXPECT_EQ(reason(m, Outcome::NavTimeJump), 1);
 }
 
 TEST(BadInput, PointsOutsideTheMapAreSkippedNeverWrittenOutside) {

@@ -10,6 +10,10 @@
 namespace sonarfusion {
 
 constexpr double kDegToRad = M_PI / 180.0;
+// Hard limits on sizes a config or a message may claim (one definition, used by
+// the validators and the daemon's message guard).
+constexpr int kMaxFlsBeams = 4096, kMaxFlsRows = 16384, kMaxPsBins = 65536, kMaxMapCells = 4096;
+constexpr int kMaxNavTimelineConfirm = 64;
 
 // Forward-looking sonar (DIDSON, paper Table 1).
 struct FlsGeometry {
@@ -191,6 +195,11 @@ struct MapperConfig {
     SegmentationConfig segmentation;
     int64_t max_nav_gap_us = 500000;  // refuse to interpolate over a NAV gap larger than this
     int nav_buffer_capacity = 4096;   // NAV samples kept for interpolation
+    // A NAV more than max_nav_gap_us away from the newest (ahead, or behind: a
+    // clock step) starts a new timeline only once this many such samples, each
+    // continuous with the one before, confirm it; until then it is a glitch
+    // and the old timeline stays (issue 10, findings 3 and 4).
+    int nav_timeline_confirm = 3;
 };
 
 }  // namespace sonarfusion

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 #include "sonarfusion/config.hpp"
@@ -15,6 +16,7 @@
 #include "sonarfusion/ps_carving.hpp"
 #include "sonarfusion/ps_model.hpp"
 #include "sonarfusion/segmentation.hpp"
+#include "sonarfusion/state_codec.hpp"
 #include "sonarfusion/track_axis.hpp"
 #include "sonarfusion/voxel_map.hpp"
 
@@ -33,6 +35,7 @@ enum class Outcome : int {
     PsEmpty,            // no bins
     PsBadGeometry,      // non-finite angle, bad range window
     PsNoEcho,           // no bin passed the selection rule
+    NavTimeJump,        // NAV time jumped (ahead or back) beyond max_nav_gap_us: held until confirmed
     kCount
 };
 constexpr int kOutcomeCount = static_cast<int>(Outcome::kCount);
@@ -45,18 +48,41 @@ struct MapperCounters {
     int64_t fls_points_outside_map = 0;
     int64_t ps_endpoints_outside_map = 0;
     int64_t map_initialisations = 0;
+    int64_t nav_timeline_resets = 0;  // confirmed NAV time jumps (clock steps, long dropouts)
 };
 
 class Mapper {
 public:
     explicit Mapper(const MapperConfig& cfg);  // throws std::invalid_argument on a bad config
 
+    // NAV in time order. A sample further than max_nav_gap_us from the newest
+    // (either way) is held (NavTimeJump) until nav_timeline_confirm such samples,
+    // each continuous with the last, confirm a new timeline; then the history is
+    // replaced by them. A sample that continues the current timeline drops them.
     Outcome addNav(const TimedPose& nav);
+    // Whether addNav(nav) would confirm a new timeline (and clear the history):
+    // the daemon settles messages of the old timeline first.
+    [[nodiscard]] bool navWouldReset(const TimedPose& nav) const;
+    // NAV samples are held as a possible new timeline: sonar should wait.
+    [[nodiscard]] bool navTimelinePending() const { return nav_candidate_count_ > 0; }
+    [[nodiscard]] int navCandidateCount() const { return nav_candidate_count_; }
+    [[nodiscard]] std::optional<int64_t> newestNavUtime() const;
+    // The interpolated NAV pose at `utime`, as the sensor models would use it.
+    [[nodiscard]] std::optional<Pose> navPoseAt(int64_t utime) const;
     Outcome addFls(const FlsFrame& frame);
     Outcome addPs(const PsPing& ping);
     // Paper 2.4 over the current map, the seabed averaged along the track axis
     // of the NAV received so far (see trackAxis()).
     const SegmentationStats& segment();
+
+    // Checkpoints: everything the pipeline needs to go on (map, detector, NAV
+    // history and held samples, track axis, counters). loadState needs a Mapper
+    // built from the same config; false (state unspecified: rebuild it) on any
+    // mismatch or damage.
+    void saveState(StateWriter& w) const;
+    [[nodiscard]] bool loadState(StateReader& r);
+    // An upper bound of saveState's size, for sizing the buffer once.
+    [[nodiscard]] std::size_t stateBytesBound() const;
 
     // Anchors the map by hand (e.g. a known target, or a restored checkpoint).
     void initialiseMapAt(const Eigen::Vector3d& centre);
@@ -84,6 +110,8 @@ private:
     ObjectDetector detector_;
     Segmenter segmenter_;
     NavBuffer nav_;
+    std::array<TimedPose, kMaxNavTimelineConfirm> nav_candidate_{};
+    int nav_candidate_count_ = 0;
     TrackAxis track_axis_;
     MapperCounters counters_;
 };
@@ -91,5 +119,8 @@ private:
 // Checks the numbers that the equations cannot take (probabilities outside
 // (0, 1), non-positive weights); returns an empty string when the config is fine.
 [[nodiscard]] std::string validateConfig(const MapperConfig& cfg);
+// What a Mapper built from `cfg` allocates, in bytes (an upper estimate), so a
+// program can refuse a config that would not fit before allocating anything.
+[[nodiscard]] std::size_t estimatedMemoryBytes(const MapperConfig& cfg);
 
 }  // namespace sonarfusion

@@ -6,8 +6,22 @@
 #include <vector>
 
 #include "sonarfusion/pose.hpp"
+#include "sonarfusion/state_codec.hpp"
 
 namespace sonarfusion {
+
+// Checkpoint encoding of one NAV sample; reading refuses a non-finite pose.
+inline void saveTimedPose(StateWriter& w, const TimedPose& p) {
+    w.pod(p.utime);
+    for (int i = 0; i < 3; ++i) w.pod(p.pose.position[i]);
+    w.pod(p.pose.roll);
+    w.pod(p.pose.pitch);
+    w.pod(p.pose.yaw);
+}
+[[nodiscard]] inline bool loadTimedPose(StateReader& r, TimedPose& p) {
+    return r.pod(p.utime) && r.pod(p.pose.position[0]) && r.pod(p.pose.position[1]) && r.pod(p.pose.position[2]) &&
+           r.pod(p.pose.roll) && r.pod(p.pose.pitch) && r.pod(p.pose.yaw) && p.pose.isFinite();
+}
 
 enum class PoseLookup { Ok, NoBracket, GapTooLarge };
 
@@ -23,6 +37,8 @@ public:
     [[nodiscard]] bool empty() const { return count_ == 0; }
     [[nodiscard]] const TimedPose& newest() const { return at(count_ - 1); }
     void clear() { count_ = 0; head_ = 0; }
+    void saveState(StateWriter& w) const;
+    [[nodiscard]] bool loadState(StateReader& r);
 
 private:
     [[nodiscard]] const TimedPose& at(int i) const {  // 0 = oldest

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sonarfusion/config.hpp"
+#include "sonarfusion/state_codec.hpp"
 
 namespace sonarfusion {
 
@@ -30,6 +31,8 @@ public:
     // Feeds one echo point (NED). Returns true on the echo that declares an object.
     bool addEchoPoint(const Eigen::Vector3d& p);
     void reset();
+    void saveState(StateWriter& w) const;
+    [[nodiscard]] bool loadState(StateReader& r);
 
     [[nodiscard]] bool detected() const { return detection_.has_value(); }
     // Mean position of the risen echoes of the cluster that declared the object.

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include "sonarfusion/state_codec.hpp"
+
 namespace sonarfusion {
 
 class TrackAxis {
@@ -12,6 +14,8 @@ public:
     // Vehicle yaw (rad, NED: 0 north, +pi/2 east). Non-finite values are ignored.
     void add(double yaw);
     void clear();
+    void saveState(StateWriter& w) const;
+    [[nodiscard]] bool loadState(StateReader& r);
     [[nodiscard]] long count() const { return count_; }
     // Unit (north, east) of the mean axis, or zero when there is no heading yet or
     // the headings do not agree on one axis: mean resultant length of the doubled

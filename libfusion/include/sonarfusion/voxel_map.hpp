@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "sonarfusion/config.hpp"
+#include "sonarfusion/state_codec.hpp"
 
 namespace sonarfusion {
 
@@ -96,6 +97,9 @@ public:
 
     [[nodiscard]] float clampMin() const { return clamp_min_; }
     [[nodiscard]] float clampMax() const { return clamp_max_; }
+    // Checkpoints: origin, anchoring, log-odds and flags (sizes must match).
+    void saveState(StateWriter& w) const;
+    [[nodiscard]] bool loadState(StateReader& r);
     [[nodiscard]] const std::vector<float>& logOddsData() const { return log_odds_; }
     [[nodiscard]] const std::vector<uint8_t>& flagsData() const { return flags_; }
 
