@@ -13,8 +13,9 @@ namespace sonarfusion {
 namespace {
 enum Channel { kNav = 0, kFls = 1, kPs = 2 };
 constexpr int kTimingRing = 8192;
-const char* kTransportNames[] = {"malformed", "fls_geometry_mismatch", "stale", "pending_overflow",
-                                 "ps_geometry_mismatch"};
+const char* kTransportNames[] = {"malformed",       "fls_geometry_mismatch", "stale",          "pending_overflow",
+                                 "ps_geometry_mismatch", "bad_fingerprint", "truncated",   "trailing_bytes",
+                                 "bad_count",       "duplicate"};
 static_assert(sizeof(kTransportNames) / sizeof(kTransportNames[0]) == static_cast<int>(TransportReject::kCount));
 
 int64_t wallUs() {
@@ -99,6 +100,9 @@ MapperNode::MapperNode(const DaemonConfig& cfg, Publisher out)
 
 // Counters and time stamps come off the network: differences are taken in
 // unsigned arithmetic (well defined for any pair once ordered) and sums saturate.
+// Only forward steps count gaps: a repeated or older seq (a duplicate, a
+// hostile copy) neither counts nor moves the reference back, so one bad message
+// cannot fake gaps later. A seq far behind (a restarted publisher) re-bases.
 void MapperNode::trackSeq(int channel, int64_t seq) {
     const int64_t last = last_seq_[channel];
     if (last >= 0 && seq > last) {
@@ -106,7 +110,28 @@ void MapperNode::trackSeq(int channel, int64_t seq) {
         const uint64_t room = static_cast<uint64_t>(INT64_MAX - gaps_[channel]);
         gaps_[channel] += static_cast<int64_t>(std::min(missed, room));
     }
-    last_seq_[channel] = seq;
+    constexpr uint64_t kRestart = 1000000;
+    if (last < 0 || seq > last ||
+        (seq >= 0 && static_cast<uint64_t>(last) - static_cast<uint64_t>(seq) > kRestart))
+        last_seq_[channel] = seq;
+}
+
+void MapperNode::countRefusal(guard::Verdict v) {
+    switch (v) {
+        case guard::Verdict::BadFingerprint: ++rejects_[static_cast<int>(TransportReject::BadFingerprint)]; return;
+        case guard::Verdict::Truncated: ++rejects_[static_cast<int>(TransportReject::Truncated)]; return;
+        case guard::Verdict::Trailing: ++rejects_[static_cast<int>(TransportReject::TrailingBytes)]; return;
+        case guard::Verdict::BadCount: ++rejects_[static_cast<int>(TransportReject::BadCount)]; return;
+        case guard::Verdict::Ok: ++rejects_[static_cast<int>(TransportReject::Malformed)]; return;
+    }
+}
+
+int64_t MapperNode::refusedBytes() const {
+    int64_t n = 0;
+    for (TransportReject r : {TransportReject::Malformed, TransportReject::BadFingerprint, TransportReject::Truncated,
+                              TransportReject::TrailingBytes, TransportReject::BadCount})
+        n += rejects_[static_cast<int>(r)];
+    return n;
 }
 
 void MapperNode::handle(const std::string& channel, const void* data, std::size_t size) {
@@ -116,9 +141,9 @@ void MapperNode::handle(const std::string& channel, const void* data, std::size_
 }
 
 void MapperNode::onNav(const void* data, std::size_t size) {
-    if (guard::checkNav(data, size) != guard::Verdict::Ok ||
-        nav_msg_.decode(data, 0, static_cast<int>(size)) < 0) {
-        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+    const guard::Verdict v = guard::checkNav(data, size);
+    if (v != guard::Verdict::Ok || nav_msg_.decode(data, 0, static_cast<int>(size)) < 0) {
+        countRefusal(v);
         return;
     }
     trackSeq(kNav, nav_msg_.seq);
@@ -137,19 +162,34 @@ void MapperNode::onNav(const void* data, std::size_t size) {
 }
 
 template <class Msg>
-void MapperNode::enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int channel, const void* data,
+void MapperNode::enqueue(std::vector<Pending<Msg>>& slots, guard::Verdict verdict, int channel, const void* data,
                          std::size_t size) {
-    if (!guard_ok) {
-        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+    if (verdict != guard::Verdict::Ok) {
+        countRefusal(verdict);
         return;
     }
     auto is_free = [](const Pending<Msg>& p) { return !p.used; };
     auto slot = std::find_if(slots.begin(), slots.end(), is_free);  // there is always one (see the constructor)
     if (slot->msg.decode(data, 0, static_cast<int>(size)) < 0) {
-        ++rejects_[static_cast<int>(TransportReject::Malformed)];
+        countRefusal(guard::Verdict::Ok);
         return;
     }
-    trackSeq(channel, slot->msg.seq);
+    const int64_t utime = slot->msg.utime, seq = slot->msg.seq;
+    // Processing runs in (utime, seq) order per channel: a copy of a message
+    // already processed or waiting would be counted twice, and an older one
+    // would be processed out of order; both are refused (the map stays that of
+    // the valid messages alone).
+    bool duplicate = utime == done_utime_[channel] && seq == done_seq_[channel];
+    for (const auto& p : slots) duplicate |= p.used && p.msg.utime == utime && p.msg.seq == seq;
+    if (duplicate) {
+        ++rejects_[static_cast<int>(TransportReject::Duplicate)];
+        return;
+    }
+    if (utime < done_utime_[channel] || (utime == done_utime_[channel] && seq < done_seq_[channel])) {
+        ++rejects_[static_cast<int>(TransportReject::Stale)];
+        return;
+    }
+    trackSeq(channel, seq);
     slot->used = true;
     slot->arrival_wall_us = wallUs();
     slot->nav_epoch = nav_epoch_;
@@ -161,11 +201,11 @@ void MapperNode::enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int ch
 }
 
 void MapperNode::onFls(const void* data, std::size_t size) {
-    enqueue(fls_pending_, guard::checkFls(data, size, limits_) == guard::Verdict::Ok, kFls, data, size);
+    enqueue(fls_pending_, guard::checkFls(data, size, limits_), kFls, data, size);
 }
 
 void MapperNode::onPs(const void* data, std::size_t size) {
-    enqueue(ps_pending_, guard::checkPs(data, size, limits_) == guard::Verdict::Ok, kPs, data, size);
+    enqueue(ps_pending_, guard::checkPs(data, size, limits_), kPs, data, size);
 }
 
 // Sonar messages are processed only once a NAV strictly after them has arrived
@@ -186,9 +226,11 @@ void MapperNode::flushOrdered(bool force, int64_t before_epoch) {
         const int64_t utime = take_ps ? ps->msg.utime : fls->msg.utime;
         if (!force && utime >= newest_nav_utime_) return;
         if (take_ps) {
+            done_utime_[kPs] = ps->msg.utime, done_seq_[kPs] = ps->msg.seq;
             processPs(ps->msg);
             ps->used = false;
         } else {
+            done_utime_[kFls] = fls->msg.utime, done_seq_[kFls] = fls->msg.seq;
             processFls(fls->msg);
             fls->used = false;
         }
@@ -459,6 +501,8 @@ void MapperNode::saveState(StateWriter& w) const {
     mapper_.saveState(w);
     w.pod(last_seq_);
     w.pod(gaps_);
+    w.pod(done_utime_);
+    w.pod(done_seq_);
     w.pod(rejects_);
     for (int64_t v : {nav_epoch_, status_seq_, objects_seq_, map_seq_, last_status_utime_, last_segment_utime_,
                       last_map_utime_, last_checkpoint_utime_, newest_data_utime_, input_position_, overruns_})
@@ -468,7 +512,9 @@ void MapperNode::saveState(StateWriter& w) const {
 }
 
 bool MapperNode::loadState(StateReader& r) {
-    if (!mapper_.loadState(r) || !r.pod(last_seq_) || !r.pod(gaps_) || !r.pod(rejects_)) return false;
+    if (!mapper_.loadState(r) || !r.pod(last_seq_) || !r.pod(gaps_) || !r.pod(done_utime_) || !r.pod(done_seq_) ||
+        !r.pod(rejects_))
+        return false;
     for (int64_t* v : {&nav_epoch_, &status_seq_, &objects_seq_, &map_seq_, &last_status_utime_, &last_segment_utime_,
                        &last_map_utime_, &last_checkpoint_utime_, &newest_data_utime_, &input_position_, &overruns_})
         if (!r.pod(*v)) return false;

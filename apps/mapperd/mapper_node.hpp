@@ -26,11 +26,16 @@ namespace sonarfusion {
 
 // Reasons the daemon rejects a message before libfusion sees it.
 enum class TransportReject : int {
-    Malformed = 0,
+    Malformed = 0,        // passed the guard but lcm-gen's decode refused it
     FlsGeometryMismatch,  // bearings, ranges, tilt, aperture or mounting disagree with the config
-    Stale,
+    Stale,                // older than a message of its channel already processed (out of order)
     PendingOverflow,      // all waiting slots taken: one waiting message was thinned out
     PsGeometryMismatch,   // fan, tilt, mounting, range window or head angle outside the configured sonar
+    BadFingerprint,       // guard verdicts, before decode (message_guard.hpp)
+    Truncated,
+    TrailingBytes,
+    BadCount,             // a negative array count, or one beyond the configured sonar
+    Duplicate,            // the same (utime, seq) as a message processed or waiting
     kCount
 };
 
@@ -74,6 +79,8 @@ public:
     [[nodiscard]] const DaemonConfig& config() const { return cfg_; }
     [[nodiscard]] int64_t seqGaps(int channel) const { return gaps_[channel]; }
     [[nodiscard]] int64_t transportRejects(TransportReject r) const { return rejects_[static_cast<int>(r)]; }
+    // Everything refused as bytes: the guard's four verdicts and failed decodes.
+    [[nodiscard]] int64_t refusedBytes() const;
     [[nodiscard]] double p99Us() const;
     [[nodiscard]] double maxUs() const { return proc_max_us_; }
     // The status message, refreshed in place (no allocation after start-up).
@@ -93,7 +100,9 @@ private:
 
     // Guard verdict, free slot (flushing if all are taken), decode, seq tracking.
     template <class Msg>
-    void enqueue(std::vector<Pending<Msg>>& slots, bool guard_ok, int channel, const void* data, std::size_t size);
+    void enqueue(std::vector<Pending<Msg>>& slots, guard::Verdict verdict, int channel, const void* data,
+                 std::size_t size);
+    void countRefusal(guard::Verdict v);
     // Processes waiting messages in order; `before_epoch` limits it to those that
     // arrived before that NAV timeline began.
     void flushOrdered(bool force, int64_t before_epoch);
@@ -118,6 +127,9 @@ private:
     std::vector<PendingPs> ps_pending_;
     std::array<int64_t, 3> last_seq_{{-1, -1, -1}};
     std::array<int64_t, 3> gaps_{};
+    // The last processed (utime, seq) per sonar channel: older arrivals are stale.
+    std::array<int64_t, 3> done_utime_{{INT64_MIN, INT64_MIN, INT64_MIN}};
+    std::array<int64_t, 3> done_seq_{{INT64_MIN, INT64_MIN, INT64_MIN}};
     std::array<int64_t, static_cast<int>(TransportReject::kCount)> rejects_{};
     int64_t newest_nav_utime_ = INT64_MIN;
     int64_t nav_epoch_ = 0;

@@ -147,14 +147,15 @@ TEST(MapperNodeRobust, PingsAndFramesOutsideTheConfiguredSonarAreCounted) {
     tilt.tilt = std::numeric_limits<float>::quiet_NaN();
     send(node, "PS", tilt);
     send(node, "PS", ping(c, 1070000, 3));  // a good one
+    int64_t t = 1090000, fseq = 4;
     for (float bad : {std::numeric_limits<float>::quiet_NaN(), 0.0f}) {
-        fls_image_t f = frame(c, node.mapper().flsModel(), 1090000, 4);
+        fls_image_t f = frame(c, node.mapper().flsModel(), t++, fseq++);
         f.tilt = bad;
         send(node, "FLS", f);
-        f = frame(c, node.mapper().flsModel(), 1110000, 5);
+        f = frame(c, node.mapper().flsModel(), t++, fseq++);
         f.elevation_max = bad;
         send(node, "FLS", f);
-        f = frame(c, node.mapper().flsModel(), 1130000, 6);
+        f = frame(c, node.mapper().flsModel(), t++, fseq++);
         f.mount_xyz[2] = std::isnan(bad) ? bad : 0.5f;
         send(node, "FLS", f);
     }
@@ -163,6 +164,25 @@ TEST(MapperNodeRobust, PingsAndFramesOutsideTheConfiguredSonarAreCounted) {
     EXPECT_EQ(node.transportRejects(TransportReject::FlsGeometryMismatch), 6);
     EXPECT_EQ(node.mapper().counters().ps_in, 1);
     EXPECT_FALSE(node.mapper().map().initialised());
+}
+
+// A copy of a message already processed or still waiting, or an older one,
+// would change the map; each is refused under its own reason.
+TEST(MapperNodeRobust, DuplicateAndOlderSonarIsRefused) {
+    DaemonConfig cfg;
+    MapperNode node(cfg, {});
+    const MapperConfig& c = node.mapper().config();
+    for (int i = 0; i < 10; ++i) send(node, "NAV", nav(1000000 + i * 20000, 0.0, i));
+    const ps_ping_t waiting = ping(c, 1300000, 1);  // after the newest NAV: waits
+    send(node, "PS", waiting);
+    send(node, "PS", waiting);
+    const ps_ping_t done = ping(c, 1050000, 0);  // bracketed: processed at once
+    send(node, "PS", done);
+    send(node, "PS", done);
+    send(node, "PS", ping(c, 1010000, 2));  // older than one already processed
+    EXPECT_EQ(node.transportRejects(TransportReject::Duplicate), 2);
+    EXPECT_EQ(node.transportRejects(TransportReject::Stale), 1);
+    EXPECT_EQ(node.seqGaps(2), 0);  // refused copies neither count gaps nor move the reference
 }
 
 // Finding 6: NAV 4 s late used 0 of 800 FLS frames (16 slots, then a forced flush
@@ -204,7 +224,7 @@ TEST(MapperNodeRobust, FramesLargerThanTheConfiguredSonarAreRefusedBeforeDecode)
     p.num_bins = 5000;
     p.intensity.assign(5000, 0);
     send(node, "PS", p);
-    EXPECT_EQ(node.transportRejects(TransportReject::Malformed), 2);
+    EXPECT_EQ(node.transportRejects(TransportReject::BadCount), 2);
     EXPECT_EQ(node.pendingCount(), 0);
 }
 

@@ -83,7 +83,7 @@ TEST(MessageGuard, TruncationsAndRandomBytesNeverCrashTheNode) {
         for (const char* ch : {"NAV", "FLS", "PS"}) node.handle(ch, junk.data(), n);
     }
     node.flush(true);
-    EXPECT_GT(node.transportRejects(TransportReject::Malformed), 0);
+    EXPECT_GT(node.refusedBytes(), 0);
     for (float l : node.mapper().map().logOddsData()) ASSERT_EQ(l, 0.0f);
 }
 
@@ -137,7 +137,7 @@ TEST(MessageGuard, MutatedValidMessagesAreAcceptedOnlyWhenDecodable) {
     node.flush(true);
     EXPECT_GT(accepted, 1000);  // byte flips inside data arrays stay valid messages
     EXPECT_GT(refused, 1000);
-    EXPECT_EQ(node.transportRejects(TransportReject::Malformed), refused);
+    EXPECT_EQ(node.refusedBytes(), refused);
 }
 
 TEST(MapperNode, HostileSequenceNumbersSaturateTheGapCounter) {
