@@ -188,16 +188,18 @@ int runLive(MapperNode& node, lcm::LCM& lcm) {
 int main(int argc, char** argv) {
     CLI::App app{"sf-mapper: FLS + profiling-sonar fusion mapper daemon"};
     std::string config_path, log_path, map_out, variant, lcm_url, status_out, checkpoint_path;
-    bool quiet = false, resume = false;
+    bool quiet = false, resume = false, check_checkpoint = false;
     app.add_option("--config", config_path, "mapper YAML config (docs/mapper-config.md)")->required()->check(CLI::ExistingFile);
     app.add_option("--log", log_path, "offline: read this LCM log as fast as possible instead of listening")->check(CLI::ExistingFile);
-    app.add_option("--map-out", map_out, "final map file (binary; a .ply is written beside it)")->required();
+    app.add_option("--map-out", map_out, "final map file (binary; a .ply is written beside it)");
     app.add_option("--variant", variant, "fls_only, carve_only, paper or fused (overrides the config's preset)");
     app.add_option("--lcm-url", lcm_url, "LCM provider URL (live mode)");
     app.add_option("--status-out", status_out, "write the final status (counts, timing) as JSON here");
     app.add_option("--checkpoint", checkpoint_path,
                    "write a crash-safe checkpoint here every daemon.checkpoint_period_s and at exit");
     app.add_flag("--resume", resume, "start from the --checkpoint file if it exists (a damaged or foreign one is an error)");
+    app.add_flag("--check-checkpoint", check_checkpoint,
+                 "only check that the --checkpoint file loads with this config (exit 0) or say why not (exit 2)");
     app.add_flag("--quiet", quiet, "no summary on stdout");
     CLI11_PARSE(app, argc, argv);
 
@@ -213,6 +215,29 @@ int main(int argc, char** argv) {
         if (!lcm_url.empty()) cfg.lcm_url = lcm_url;
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());
+        return 2;
+    }
+    if (check_checkpoint) {
+        if (checkpoint_path.empty()) {
+            spdlog::error("--check-checkpoint needs --checkpoint PATH");
+            return 2;
+        }
+        try {
+            const std::vector<uint8_t> state = readCheckpoint(checkpoint_path, configFingerprint(cfg));
+            MapperNode node(cfg, {});
+            StateReader r(state.data(), state.size());
+            if (!node.loadState(r)) throw std::runtime_error("checkpoint " + checkpoint_path + ": contents do not fit");
+            std::printf("checkpoint %s: ok (%lld NAV, map %s)\n", checkpoint_path.c_str(),
+                        static_cast<long long>(node.mapper().counters().nav_in),
+                        node.mapper().map().initialised() ? "anchored" : "not anchored");
+            return 0;
+        } catch (const std::exception& e) {
+            spdlog::error("{}", e.what());
+            return 2;
+        }
+    }
+    if (map_out.empty()) {
+        spdlog::error("--map-out is required");
         return 2;
     }
     if (resume && checkpoint_path.empty()) {
