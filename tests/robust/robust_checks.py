@@ -17,6 +17,12 @@
   robust_checks.py drops ...
       1 %, 5 % and 20 % of FLS and PS dropped: the reported sequence gaps equal
       the drops exactly.
+  robust_checks.py damaged_log ...
+      sf-mapper --log over logs damaged the ways a probe found (a data length of
+      0x7fffffff, garbage between events, a bad sync word, a log cut mid-event):
+      no crash, exit 3 (events lost), the rest of the log still mapped; a
+      --map-out in a missing folder fails at start (exit 2); SIGHUP stops the
+      live daemon with its map written.
   robust_checks.py load ...
       published as fast as possible and in bursts: the daemon never blocks,
       overflow is counted (every message is either received or in the gaps),
@@ -292,11 +298,61 @@ wait $pid
     check(sum(results["flood"]["seq_gaps"].values()) > 0, "the flood overflowed the queue and the loss was counted")
 
 
+def damaged_log(root, build, scenario, out, hostile):
+    log = simulate(build, scenario, out)
+    cfg = config_with(root, out)
+    good = open(log, "rb").read()
+    # Event boundaries: sync word, event number, utime, channel length, data length.
+    starts, off = [], 0
+    while off + 28 <= len(good):
+        starts.append(off)
+        clen, dlen = struct.unpack_from(">ii", good, off + 20)
+        off += 28 + clen + dlen
+    k = len(starts) // 3
+    cases = {
+        "data_len_0x7fffffff": good[:starts[k] + 24] + struct.pack(">i", 0x7FFFFFFF) + good[starts[k] + 28:],
+        "garbage_between_events": good[:starts[k]] + bytes(range(256)) * 40 + good[starts[k]:],
+        "bad_sync_word": good[:starts[k]] + b"\x00\x00\x00\x00" + good[starts[k] + 4:],
+        "channel_len_100000": good[:starts[k] + 20] + struct.pack(">i", 100000) + good[starts[k] + 24:],
+        "cut_mid_event": good[:starts[-1] + 40],
+    }
+    mapper = f"{build}/apps/mapperd/sf-mapper"
+    for name, data in cases.items():
+        path = f"{out}/{name}.lcmlog"
+        open(path, "wb").write(data)
+        m = f"{out}/{name}.map"
+        r = subprocess.run([mapper, "--config", cfg, "--log", path, "--map-out", m, "--status-out", f"{out}/{name}.json",
+                            "--quiet"], capture_output=True, text=True)
+        st = json.load(open(f"{out}/{name}.json")) if os.path.exists(f"{out}/{name}.json") else {}
+        check(r.returncode == 3 and os.path.exists(m) and st.get("objects", 0) >= 1 and st.get("nav_in", 0) >= 3190,
+              f"{name}: exit {r.returncode} (3: events lost), map written, {st.get('nav_in')} NAV of 3200 read past "
+              f"the damage, {st.get('objects')} object(s); says: {r.stderr.strip().splitlines()[-1:]}")
+        os.remove(path)
+    r = subprocess.run([mapper, "--config", cfg, "--log", log, "--map-out", "/nonexistent-folder/x.map"],
+                       capture_output=True, text=True)
+    check(r.returncode == 2 and "nonexistent-folder" in r.stderr + r.stdout,
+          f"--map-out in a missing folder fails at start (exit {r.returncode})")
+    script = r"""
+ip link set lo up
+ip route add 239.0.0.0/8 dev lo
+rm -f "$OUT/hup.map"
+"$MAPPER" --config "$CFG" --lcm-url "$URL" --map-out "$OUT/hup.map" --quiet & pid=$!
+sleep 1.0
+kill -HUP $pid
+wait $pid
+echo "exit $?" > "$OUT/hup.txt"
+"""
+    env = dict(os.environ, MAPPER=mapper, CFG=cfg, URL=URL, OUT=out)
+    run(["unshare", "-n", "bash", "-c", script], env=env)
+    check(open(f"{out}/hup.txt").read().strip() == "exit 0" and os.path.exists(f"{out}/hup.map"),
+          "SIGHUP stops the live daemon cleanly with its map written")
+
+
 if __name__ == "__main__":
     mode, root, build, scenario, out, hostile = sys.argv[1:7]
     os.makedirs(out, exist_ok=True)
     {"offline_kill": offline_kill, "live_kill": live_kill, "mixed_stream": mixed_stream, "drops": drops,
-     "load": load}[mode](root, build, scenario, out, hostile)
+     "load": load, "damaged_log": damaged_log}[mode](root, build, scenario, out, hostile)
     if failures:
         print(f"{len(failures)} check(s) failed", flush=True)
         sys.exit(1)
