@@ -111,7 +111,7 @@ void CheckpointWriter::seal(std::size_t payload_size) {
     put<uint32_t>(b + 8, kVersion);
     put<uint64_t>(b + 12, fingerprint_);
     put<uint64_t>(b + 20, static_cast<uint64_t>(payload_size));
-    put<uint64_t>(b + kHeader + payload_size, fnv1a(b, kHeader + payload_size));
+    // The checksum (a few ms over a 5 MB map) is computed on the writer thread.
     {
         std::lock_guard<std::mutex> lock(mu_);
         pending_size_ = kHeader + payload_size + 8;
@@ -144,6 +144,7 @@ void CheckpointWriter::run() {
 }
 
 bool CheckpointWriter::writeFile(std::size_t total) {
+    put<uint64_t>(buffer_.data() + total - 8, fnv1a(buffer_.data(), total - 8));
     const std::string tmp = path_ + ".tmp";
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0) return false;

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -273,9 +274,15 @@ int main(int argc, char** argv) {
         }
         MapperNode* node_ptr = nullptr;
         std::unique_ptr<CheckpointWriter> checkpoints;
+        double checkpoint_copy_max_us = 0.0;  // the message thread's share of a checkpoint
         if (!checkpoint_path.empty())
             pub.checkpoint = [&] {
-                if (checkpoints) (void)checkpoints->submit([&](StateWriter& w) { node_ptr->saveState(w); });
+                if (!checkpoints) return;
+                const auto t0 = std::chrono::steady_clock::now();
+                (void)checkpoints->submit([&](StateWriter& w) { node_ptr->saveState(w); });
+                checkpoint_copy_max_us = std::max(
+                    checkpoint_copy_max_us,
+                    std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
             };
         MapperNode node(cfg, pub);
         node_ptr = &node;
@@ -303,8 +310,9 @@ int main(int argc, char** argv) {
             checkpoints->drain();
             if (!checkpoints->submit([&](StateWriter& w) { node.saveState(w); })) spdlog::error("final checkpoint failed");
             checkpoints->drain();
-            spdlog::info("checkpoints: {} written, {} failed, {} skipped (writer busy)", checkpoints->written(),
-                         checkpoints->failed(), checkpoints->skipped());
+            spdlog::info("checkpoints: {} written, {} failed, {} skipped (writer busy); copy on the message thread "
+                         "at most {:.0f} us",
+                         checkpoints->written(), checkpoints->failed(), checkpoints->skipped(), checkpoint_copy_max_us);
         }
         writeOutputs(node, map_out);
         if (lcm) node.publishStatus();
