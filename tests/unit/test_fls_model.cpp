@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "sonarfusion/fls_model.hpp"
+#include "sonarfusion/pose.hpp"
 
 using namespace sonarfusion;
 
@@ -87,4 +88,34 @@ TEST(FlsModel, FrameMustMatchGeometry) {
     EXPECT_FALSE(m.frameMatches(f));
     f = FlsFrame{0, 512, 96, nullptr, buf.size()};
     EXPECT_FALSE(m.frameMatches(f));
+}
+
+// Issue 11: the candidate points follow the full NAV attitude. Hand-computed
+// for the centre beam (bearing 0) at centre elevation, 40 deg below the bow.
+TEST(FlsModel, PitchAndRollMoveCandidatePointsWhereGeometrySays) {
+    FlsModel m{FlsGeometry{}};
+    const double r = m.rangeOfRow(0);  // 10 m
+    Pose nose_up;
+    nose_up.position = Eigen::Vector3d(1.0, 2.0, 3.0);
+    nose_up.pitch = 5 * kDeg;  // nose up: the beam looks 35 deg down
+    Eigen::Vector3d p = sensorToWorld(nose_up, Mounting{}) * m.pointInSensor(0, 48, 2);
+    EXPECT_NEAR(p.x(), 1.0 + r * std::cos(35 * kDeg), 1e-5);
+    EXPECT_NEAR(p.y(), 2.0, 1e-5);
+    EXPECT_NEAR(p.z(), 3.0 + r * std::sin(35 * kDeg), 1e-5);
+    // Rolled 10 deg starboard down: the belly turns to port, so a point below
+    // the bow swings to port (-y) and rises a little: y = -sin(10) r sin(40),
+    // z = cos(10) r sin(40); x unchanged.
+    Pose rolled;
+    rolled.roll = 10 * kDeg;
+    p = sensorToWorld(rolled, Mounting{}) * m.pointInSensor(0, 48, 2);
+    EXPECT_NEAR(p.x(), r * std::cos(40 * kDeg), 1e-5);
+    EXPECT_NEAR(p.y(), -std::sin(10 * kDeg) * r * std::sin(40 * kDeg), 1e-5);
+    EXPECT_NEAR(p.z(), std::cos(10 * kDeg) * r * std::sin(40 * kDeg), 1e-5);
+    // Yawed 90 deg (heading east) and pitched: the same depression, now along +y.
+    Pose east = nose_up;
+    east.yaw = 90 * kDeg;
+    p = sensorToWorld(east, Mounting{}) * m.pointInSensor(0, 48, 2);
+    EXPECT_NEAR(p.x(), 1.0, 1e-5);
+    EXPECT_NEAR(p.y(), 2.0 + r * std::cos(35 * kDeg), 1e-5);
+    EXPECT_NEAR(p.z(), 3.0 + r * std::sin(35 * kDeg), 1e-5);
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "sonarfusion/pose.hpp"
 #include "sonarfusion/ps_model.hpp"
 #include "sonarfusion/variant.hpp"
 #include "test_helpers.hpp"
@@ -120,4 +121,21 @@ TEST(PsModel, ValidatesPings) {
     bad = p.view;
     bad.range_max = -1.0;
     EXPECT_EQ(validatePing(bad), PsPingError::BadGeometry);
+}
+
+// Issue 11: the profiling direction follows the full NAV attitude (hand-computed).
+TEST(PsModel, PitchAndRollMoveTheProfileWhereGeometrySays) {
+    PsModel m{PsGeometry{}};
+    Pose p;
+    p.pitch = -5 * kDeg;  // nose down: head at 0 looks 45 deg down
+    Eigen::Vector3d d = sensorToWorld(p, Mounting{}).linear() * m.centreDirection(0.0);
+    EXPECT_NEAR(d.x(), std::cos(45 * kDeg), 1e-12);
+    EXPECT_NEAR(d.y(), 0.0, 1e-12);
+    EXPECT_NEAR(d.z(), std::sin(45 * kDeg), 1e-12);
+    Pose r;
+    r.roll = -3 * kDeg;  // port down: the belly turns to starboard (+y)
+    d = sensorToWorld(r, Mounting{}).linear() * m.centreDirection(10 * kDeg);  // 50 deg down
+    EXPECT_NEAR(d.x(), std::cos(50 * kDeg), 1e-12);
+    EXPECT_NEAR(d.y(), std::sin(3 * kDeg) * std::sin(50 * kDeg), 1e-12);
+    EXPECT_NEAR(d.z(), std::cos(3 * kDeg) * std::sin(50 * kDeg), 1e-12);
 }
