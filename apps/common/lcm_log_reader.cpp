@@ -224,7 +224,12 @@ bool LcmLogReader::next(LcmLogEvent& ev) {
         if (size_ != size_before) continue;
         if (v == Verdict::kValid) {
             const uint8_t* p = ensure(pos_, static_cast<std::size_t>(h.total));
-            if (!p) continue;
+            if (!p) {
+                if (size_ != size_before) continue;
+                skip(pos_, size_, true);  // cannot happen (the buffer holds any valid event); never loop on it
+                pos_ = size_;
+                return false;
+            }
             ev.event_number = h.event_number;
             ev.utime = h.utime;
             ev.channel = std::string_view(reinterpret_cast<const char*>(p + kHeaderSize), h.channel_len);
