@@ -130,12 +130,14 @@ LcmLogReader::Verdict LcmLogReader::evaluate(int64_t off, Header& h) {
     }
     if (n < kHeaderSize) return Verdict::kTruncated;
     const int32_t dl = asInt32(be32(p + 24));
-    if (dl < 0 || static_cast<uint64_t>(dl) > max_data_len_) return Verdict::kInvalid;
+    if (dl < 0) return Verdict::kInvalid;
     h.data_len = static_cast<uint32_t>(dl);
     h.event_number = asInt64(be64(p + 4));
     h.utime = asInt64(be64(p + 12));
     h.total = kHeaderSize + uint64_t{h.channel_len} + uint64_t{h.data_len};  // < 2^33: no overflow
-    if (h.total > rem) return Verdict::kTruncated;
+    const bool oversized = h.data_len > max_data_len_;
+    // Longer than we accept and longer than the file: damage, not a cut.
+    if (h.total > rem) return oversized ? Verdict::kInvalid : Verdict::kTruncated;
     // The next sync word (or as much of it as the file holds), or the exact end of the file.
     const std::size_t follow = static_cast<std::size_t>(std::min<uint64_t>(rem - h.total, 4));
     if (follow > 0) {
@@ -144,7 +146,9 @@ LcmLogReader::Verdict LcmLogReader::evaluate(int64_t off, Header& h) {
         if (std::memcmp(f, kSyncBytes, follow) != 0 && !headerChains(off + static_cast<int64_t>(h.total)))
             return Verdict::kInvalid;
     }
-    return Verdict::kValid;
+    // A well-formed event (it ends at a sync word) too long for us: skipped
+    // unread, so memory stays bounded by max_data_len.
+    return oversized ? Verdict::kOversized : Verdict::kValid;
 }
 
 bool LcmLogReader::headerChains(int64_t off) {
@@ -156,8 +160,7 @@ bool LcmLogReader::headerChains(int64_t off) {
     uint8_t len[8];
     if (!peek(off + 20, sizeof len, len)) return false;
     const int32_t cl = asInt32(be32(len)), dl = asInt32(be32(len + 4));
-    if (cl < 1 || static_cast<uint64_t>(cl) > max_channel_len_ || dl < 0 || static_cast<uint64_t>(dl) > max_data_len_)
-        return false;
+    if (cl < 1 || static_cast<uint64_t>(cl) > max_channel_len_ || dl < 0) return false;
     const uint64_t total = kHeaderSize + static_cast<uint64_t>(cl) + static_cast<uint64_t>(dl);
     const uint64_t rem = static_cast<uint64_t>(size_ - off);
     if (total > rem) return false;
@@ -222,6 +225,12 @@ bool LcmLogReader::next(LcmLogEvent& ev) {
         Header h;
         const Verdict v = evaluate(pos_, h);
         if (size_ != size_before) continue;
+        if (v == Verdict::kOversized) {
+            ++stats_.oversized_events;
+            stats_.skipped_bytes += static_cast<int64_t>(h.total);
+            pos_ += static_cast<int64_t>(h.total);
+            continue;
+        }
         if (v == Verdict::kValid) {
             const uint8_t* p = ensure(pos_, static_cast<std::size_t>(h.total));
             if (!p) {
@@ -248,7 +257,7 @@ bool LcmLogReader::next(LcmLogEvent& ev) {
             Header hq;
             const Verdict vq = evaluate(q, hq);
             if (size_ != size_before) break;
-            if (vq == Verdict::kValid) {
+            if (vq == Verdict::kValid || vq == Verdict::kOversized) {
                 valid_at = q;
                 break;
             }

@@ -17,7 +17,11 @@
 // next event that passes these checks. (One exception to the rule: an event
 // followed by a header that is whole but for its sync word, and whose own
 // event ends at a sync word, is accepted; so a damaged sync word costs one
-// event, not two.) A last event cut short by the end of
+// event, not two.) An event whose data length exceeds max_data_len but which
+// otherwise passes every check (inside the file, followed by a sync word or the
+// end of the file: a well-formed message larger than the caller wants, such
+// as another program's map snapshot in an lcm-logger recording) is skipped
+// unread and counted in oversized_events; it is not damage. A last event cut short by the end of
 // the file is a truncated tail, not damage. Invariant after the last next():
 //   sum over events of (28 + channel length + data length) + skipped_bytes == file size.
 //
@@ -53,7 +57,8 @@ struct LcmLogEvent {
 struct LcmLogStats {
     int64_t events = 0;           // events returned by next()
     int64_t damaged_regions = 0;  // stretches of bytes skipped to resynchronise
-    int64_t skipped_bytes = 0;    // every byte not part of a returned event (damage and truncated tail)
+    int64_t skipped_bytes = 0;    // every byte not part of a returned event (damage, oversized events, truncated tail)
+    int64_t oversized_events = 0;  // well-formed events longer than max_data_len: skipped unread, not damage
     bool truncated_tail = false;  // the file ends inside an event (a cut log, e.g. the logger killed)
     int64_t truncated_bytes = 0;  // how many of skipped_bytes that cut event holds
 };
@@ -68,7 +73,7 @@ public:
     // may claim (pass the largest message the configuration allows); the
     // buffer, about max_channel_len + max_data_len + read_ahead bytes, is
     // allocated here once. Lengths above INT32_MAX are clamped to it (the
-    // format's lengths are int32).
+    // format's lengths are int32). Longer events are skipped (oversized_events).
     LcmLogReader(const std::string& path, std::size_t max_data_len, std::size_t max_channel_len = 255,
                  std::size_t read_ahead = kDefaultReadAhead);
     // Reads `size` bytes in memory (not copied: they must outlive the reader
@@ -88,7 +93,7 @@ public:
     [[nodiscard]] int64_t fileSize() const { return size_; }
 
 private:
-    enum class Verdict { kValid, kTruncated, kInvalid };
+    enum class Verdict { kValid, kOversized, kTruncated, kInvalid };
     struct Header {
         int64_t event_number = 0, utime = 0;
         uint32_t channel_len = 0, data_len = 0;

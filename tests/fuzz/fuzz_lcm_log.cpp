@@ -72,6 +72,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     SF_CHECK(i == seen.size());
     const sonarfusion::LcmLogStats& f = file.stats();
     SF_CHECK(f.events == s.events && f.damaged_regions == s.damaged_regions && f.skipped_bytes == s.skipped_bytes &&
-             f.truncated_tail == s.truncated_tail && f.truncated_bytes == s.truncated_bytes);
+             f.truncated_tail == s.truncated_tail && f.truncated_bytes == s.truncated_bytes &&
+             f.oversized_events == s.oversized_events);
     return 0;
 }

@@ -162,6 +162,7 @@ Result readEveryWay(const std::vector<uint8_t>& bytes, std::size_t max_data = kM
         EXPECT_EQ(r.stats.skipped_bytes, ref.stats.skipped_bytes) << "read-ahead " << ra;
         EXPECT_EQ(r.stats.truncated_tail, ref.stats.truncated_tail) << "read-ahead " << ra;
         EXPECT_EQ(r.stats.truncated_bytes, ref.stats.truncated_bytes) << "read-ahead " << ra;
+        EXPECT_EQ(r.stats.oversized_events, ref.stats.oversized_events) << "read-ahead " << ra;
     }
     return ref;
 }
@@ -235,13 +236,43 @@ TEST(LcmLogReader, EventOffsetsAndLimitsAreExact) {
     ASSERT_EQ(r.events.size(), 6u);
     for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(r.offsets[i], static_cast<int64_t>(log.start[i]));
     EXPECT_EQ(r.events[3].data.size(), 0u);  // an empty payload is valid
-    // An event exactly at max_data_len is accepted, one byte over is damage.
-    std::size_t largest = 0;
-    for (const Ev& e : log.events) largest = std::max(largest, e.data.size());
+    // An event exactly at max_data_len is accepted; one byte over, the
+    // well-formed event is skipped unread (oversized), which is not damage.
+    std::size_t largest = 0, which = 0;
+    for (std::size_t i = 0; i < log.events.size(); ++i)
+        if (log.events[i].data.size() > largest) largest = log.events[i].data.size(), which = i;
     EXPECT_EQ(readEveryWay(log.bytes, largest).events.size(), 6u);
     const Result over = readEveryWay(log.bytes, largest - 1);
-    EXPECT_LT(over.events.size(), 6u);
-    EXPECT_GT(over.stats.damaged_regions, 0);
+    EXPECT_EQ(over.events, without(log.events, {which}));
+    EXPECT_EQ(over.stats.oversized_events, 1);
+    EXPECT_EQ(over.stats.damaged_regions, 0);
+    EXPECT_EQ(over.stats.skipped_bytes, static_cast<int64_t>(log.size(which)));
+}
+
+TEST(LcmLogReader, WellFormedEventsLargerThanTheLimitAreSkippedUnread) {
+    // An lcm-logger recording holds every channel, e.g. another program's
+    // large map snapshots: skipped without reading or allocating, not damage.
+    std::vector<Ev> evs = makeEvents(8);
+    std::mt19937 rng(5);
+    evs[2].data = noise(rng, 3 * kMaxData);
+    evs[7].data = noise(rng, kMaxData + 1);  // the last one, ending at the end of the file
+    const Log log = encode(evs);
+    const Result r = readEveryWay(log.bytes);
+    EXPECT_EQ(r.events, without(evs, {2, 7}));
+    EXPECT_EQ(r.stats.oversized_events, 2);
+    EXPECT_EQ(r.stats.damaged_regions, 0);
+    EXPECT_FALSE(r.stats.truncated_tail);
+    EXPECT_EQ(r.stats.skipped_bytes, static_cast<int64_t>(log.size(2) + log.size(7)));
+    LcmLogReader mem(log.bytes.data(), log.bytes.size(), kMaxData);
+    LcmLogEvent ev;
+    while (mem.next(ev)) {
+    }
+    EXPECT_FALSE(mem.lostData());
+    // Cut inside an oversized last event: longer than the limit and the file, damage.
+    const std::vector<uint8_t> cut(log.bytes.begin(), log.bytes.end() - 10);
+    const Result c = readEveryWay(cut);
+    EXPECT_EQ(c.events, without(evs, {2, 7}));
+    EXPECT_EQ(c.stats.damaged_regions, 1);
 }
 
 TEST(LcmLogReader, EmptyFileIsCleanAndMissingFileIsNotGood) {
