@@ -46,6 +46,7 @@ void LivePublisher::write(const std::string& channel, int64_t utime, const std::
 
 void writeSequence(MessageWriter& out, const Channels& channels, const SequenceOutput& seq) {
     out.write(channels.nav, seq.nav.utime, encodeMessage(seq.nav));
+    if (seq.has_truth) out.write(channels.nav_truth, seq.truth.utime, encodeMessage(seq.truth));
     out.write(channels.ps, seq.ps.utime, encodeMessage(seq.ps));
     if (seq.has_fls) out.write(channels.fls, seq.fls.utime, encodeMessage(seq.fls));
 }

@@ -58,7 +58,8 @@ private:
     std::chrono::steady_clock::time_point wall_start_;
 };
 
-// Writes one sequence's messages in publish order: NAV first, then PS, then FLS.
+// Writes one sequence's messages in publish order: NAV first, then NAV_TRUTH
+// (when the sequence has it), then PS, then FLS.
 void writeSequence(MessageWriter& out, const Channels& channels, const SequenceOutput& seq);
 
 }  // namespace sonarfusion::sim

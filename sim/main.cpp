@@ -54,14 +54,15 @@ private:
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"sf-sim: ray-traced FLS + profiling-sonar simulator (writes NAV, FLS, PS on LCM)"};
+    CLI::App app{"sf-sim: ray-traced FLS + profiling-sonar simulator (writes NAV, FLS, PS and, with NAV errors or "
+                 "motion, NAV_TRUTH on LCM)"};
     std::string scenario_path, log_path, lcm_url, png_dir;
     bool publish = false, quiet = false;
     double rate = 1.0;
     int threads = 0;
     int64_t sequences = -1, png_seq = 0;
     std::optional<uint64_t> seed;
-    std::string nav_channel, fls_channel, ps_channel;
+    std::string nav_channel, fls_channel, ps_channel, truth_channel;
     app.add_option("--scenario", scenario_path, "scenario YAML (docs/scenario-format.md)")->required();
     auto* log_opt = app.add_option("--log", log_path, "write an LCM log file");
     auto* pub_opt = app.add_flag("--publish", publish, "publish live on LCM");
@@ -79,6 +80,8 @@ int main(int argc, char** argv) {
     app.add_option("--nav-channel", nav_channel, "override the NAV channel name");
     app.add_option("--fls-channel", fls_channel, "override the FLS channel name");
     app.add_option("--ps-channel", ps_channel, "override the PS channel name");
+    app.add_option("--nav-truth-channel", truth_channel,
+                   "override the NAV_TRUTH channel name (the true pose, sent when the scenario has NAV errors or motion)");
     app.add_flag("-q,--quiet", quiet, "no progress bar");
     CLI11_PARSE(app, argc, argv);
 
@@ -98,6 +101,7 @@ int main(int argc, char** argv) {
     if (!nav_channel.empty()) scenario.channels.nav = nav_channel;
     if (!fls_channel.empty()) scenario.channels.fls = fls_channel;
     if (!ps_channel.empty()) scenario.channels.ps = ps_channel;
+    if (!truth_channel.empty()) scenario.channels.nav_truth = truth_channel;
 
     try {
         const sim::Simulator simulator(scenario);

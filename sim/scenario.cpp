@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -237,6 +238,49 @@ void readNoise(const YAML::Node& node, Scenario& s) {
     check(n.floor >= 0.0, "noise.floor", "must be >= 0");
 }
 
+// A number that must be finite and >= 0 (NaN and inf refused by name).
+void checkNonNegative(double v, const std::string& field) {
+    check(std::isfinite(v), field, "must be a finite number");
+    check(v >= 0.0, field, "must be >= 0");
+}
+
+void readNavigation(const YAML::Node& node, Scenario& s) {
+    Fields f(node, "navigation");
+    NavigationSpec& n = s.navigation;
+    n.position_noise = f.get("position_noise", n.position_noise);
+    n.depth_noise = f.get("depth_noise", n.depth_noise);
+    n.drift_fraction = f.get("drift_fraction", n.drift_fraction);
+    n.heading_bias = f.degrees("heading_bias_deg", n.heading_bias);
+    n.heading_noise = f.degrees("heading_noise_deg", n.heading_noise);
+    n.attitude_noise = f.degrees("attitude_noise_deg", n.attitude_noise);
+    n.latency = f.get("latency", n.latency);
+    f.rejectUnknownKeys();
+    checkNonNegative(n.position_noise, "navigation.position_noise");
+    checkNonNegative(n.depth_noise, "navigation.depth_noise");
+    checkNonNegative(n.drift_fraction, "navigation.drift_fraction");
+    check(std::isfinite(n.heading_bias), "navigation.heading_bias_deg", "must be a finite number");
+    checkNonNegative(n.heading_noise, "navigation.heading_noise_deg");
+    checkNonNegative(n.attitude_noise, "navigation.attitude_noise_deg");
+    checkNonNegative(n.latency, "navigation.latency");
+}
+
+void readMotion(const YAML::Node& node, Scenario& s) {
+    Fields f(node, "motion");
+    MotionSpec& m = s.motion;
+    m.roll_amplitude = f.degrees("roll_amplitude_deg", m.roll_amplitude);
+    m.pitch_amplitude = f.degrees("pitch_amplitude_deg", m.pitch_amplitude);
+    m.yaw_amplitude = f.degrees("yaw_amplitude_deg", m.yaw_amplitude);
+    m.heave_amplitude = f.get("heave_amplitude", m.heave_amplitude);
+    m.period = f.get("period", m.period);
+    f.rejectUnknownKeys();
+    checkNonNegative(m.roll_amplitude, "motion.roll_amplitude_deg");
+    checkNonNegative(m.pitch_amplitude, "motion.pitch_amplitude_deg");
+    checkNonNegative(m.yaw_amplitude, "motion.yaw_amplitude_deg");
+    checkNonNegative(m.heave_amplitude, "motion.heave_amplitude");
+    checkNonNegative(m.period, "motion.period");
+    check(!m.enabled() || m.period > 0.0, "motion.period", "must be > 0 when an amplitude is not 0");
+}
+
 void readTrajectory(const YAML::Node& node, Scenario& s) {
     Fields f(node, "trajectory");
     TrajectorySpec& t = s.trajectory;
@@ -303,14 +347,21 @@ Scenario parse(const YAML::Node& root, const fs::path& base_dir) {
     readFls(top.child("fls"), s);
     readPs(top.child("ps"), s);
     readNoise(top.child("noise"), s);
+    readNavigation(top.child("navigation"), s);
+    readMotion(top.child("motion"), s);
     readTrajectory(top.child("trajectory"), s);
     Fields ch(top.child("channels"), "channels");
     s.channels.nav = ch.get("nav", s.channels.nav);
     s.channels.fls = ch.get("fls", s.channels.fls);
     s.channels.ps = ch.get("ps", s.channels.ps);
+    s.channels.nav_truth = ch.get("nav_truth", s.channels.nav_truth);
     ch.rejectUnknownKeys();
     check(!s.channels.nav.empty() && !s.channels.fls.empty() && !s.channels.ps.empty(), "channels",
           "channel names must not be empty");
+    check(!s.channels.nav_truth.empty(), "channels.nav_truth", "must not be empty");
+    check(!s.publishesTruth() || (s.channels.nav_truth != s.channels.nav && s.channels.nav_truth != s.channels.fls &&
+                                  s.channels.nav_truth != s.channels.ps),
+          "channels.nav_truth", "must differ from the nav, fls and ps channels");
     top.rejectUnknownKeys();
     return s;
 }

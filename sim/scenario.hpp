@@ -96,8 +96,40 @@ struct TrajectorySpec {
     std::vector<WaypointPath> waypoints;  // flown after the passes
 };
 
+// What NAV reports against the true pose (docs/navigation.md). All zero: NAV is
+// the truth, as before this block existed.
+struct NavigationSpec {
+    double position_noise = 0.0;  // m rms, white, per horizontal axis
+    double depth_noise = 0.0;     // m rms, white
+    double drift_fraction = 0.0;  // horizontal random-walk drift: rms = fraction x mission distance at its end
+    double heading_bias = 0.0;    // rad, constant
+    double heading_noise = 0.0;   // rad rms, white
+    double attitude_noise = 0.0;  // rad rms, white, on roll and on pitch
+    double latency = 0.0;         // s: NAV stamped t reports the true pose at t - latency
+    [[nodiscard]] bool enabled() const {
+        return position_noise != 0.0 || depth_noise != 0.0 || drift_fraction != 0.0 || heading_bias != 0.0 ||
+               heading_noise != 0.0 || attitude_noise != 0.0 || latency != 0.0;
+    }
+};
+
+// The true vehicle motion about the planned path: a sinusoid per axis, one
+// period, each axis with its own phase drawn from the seed.
+struct MotionSpec {
+    double roll_amplitude = 0.0;   // rad
+    double pitch_amplitude = 0.0;  // rad
+    double yaw_amplitude = 0.0;    // rad
+    double heave_amplitude = 0.0;  // m (NED z)
+    double period = 0.0;           // s
+    [[nodiscard]] bool enabled() const {
+        return roll_amplitude != 0.0 || pitch_amplitude != 0.0 || yaw_amplitude != 0.0 || heave_amplitude != 0.0;
+    }
+};
+
 struct Channels {
     std::string nav = "NAV", fls = "FLS", ps = "PS";
+    // The true pose (nav_state_t), published only when the scenario's
+    // navigation or motion block is not all zero.
+    std::string nav_truth = "NAV_TRUTH";
 };
 
 struct Scenario {
@@ -110,6 +142,8 @@ struct Scenario {
     FlsSimParams fls_sim;
     PsSimParams ps_sim;
     NoiseSpec noise;
+    NavigationSpec navigation;
+    MotionSpec motion;
     TrajectorySpec trajectory;
     Channels channels;
     uint64_t seed = 1;
@@ -117,6 +151,9 @@ struct Scenario {
     // The end-face angle of the first object mesh that declares one (deg), or 0.
     [[nodiscard]] double trueFaceAngleDeg() const;
     [[nodiscard]] std::vector<std::string> meshPaths(MeshRole role) const;
+    // NAV differs from the truth, or the vehicle moves off its planned attitude
+    // and depth: the simulator then also publishes the truth (channels.nav_truth).
+    [[nodiscard]] bool publishesTruth() const { return navigation.enabled() || motion.enabled(); }
 };
 
 // Loads and validates a scenario. Mesh paths are resolved relative to the

@@ -12,7 +12,8 @@ Simulator::Simulator(const Scenario& scenario)
       scene_(std::make_unique<Scene>(scenario.scene)),
       fls_(std::make_unique<FlsSimulator>(*scene_, scenario_)),
       ps_(std::make_unique<PsSimulator>(*scene_, scenario_)),
-      sequences_(buildSequences(scenario_)) {}
+      sequences_(buildSequences(scenario_)),
+      navigation_(reportNavigation(scenario_, sequences_)) {}
 
 double Simulator::altitudeBelow(const Pose& vehicle) const {
     // An altimeter looking straight down the body z axis; -1 when nothing is below.
@@ -90,20 +91,38 @@ int64_t poseNoiseKey(const Pose& pose, double head_angle) {
 }
 }  // namespace
 
-SequenceOutput Simulator::simulate(const SequenceState& q, int threads) const {
-    SequenceOutput out;
-    out.state = q;
-    nav_state_t& nav = out.nav;
+nav_state_t Simulator::navMessage(const SequenceState& q, const Pose& pose, const Eigen::Vector3d& velocity,
+                                  double altitude) const {
+    nav_state_t nav;
     nav.utime = q.utime;
     nav.seq = q.index;
     for (int a = 0; a < 3; ++a) {
-        nav.position_ned[a] = q.pose.position[a];
-        nav.velocity_ned[a] = q.velocity[a];
+        nav.position_ned[a] = pose.position[a];
+        nav.velocity_ned[a] = velocity[a];
     }
-    nav.rpy[0] = q.pose.roll;
-    nav.rpy[1] = q.pose.pitch;
-    nav.rpy[2] = q.pose.yaw;
-    nav.altitude = altitudeBelow(q.pose);
+    nav.rpy[0] = pose.roll;
+    nav.rpy[1] = pose.pitch;
+    nav.rpy[2] = pose.yaw;
+    nav.altitude = altitude;
+    return nav;
+}
+
+SequenceOutput Simulator::simulate(const SequenceState& q, int threads) const {
+    SequenceOutput out;
+    out.state = q;
+    const std::size_t i = static_cast<std::size_t>(q.index);
+    if (scenario_.navigation.enabled() && i < navigation_.size()) {
+        // NAV: the lagged true pose with the navigation errors; its velocity and
+        // altitude (a ray down the body z axis) are those of the lagged truth.
+        const NavReport& r = navigation_[i];
+        out.nav = navMessage(q, r.reported, r.truth_velocity, altitudeBelow(r.truth));
+    } else {
+        out.nav = navMessage(q, q.pose, q.velocity, altitudeBelow(q.pose));
+    }
+    if (scenario_.publishesTruth()) {
+        out.has_truth = true;
+        out.truth = scenario_.navigation.enabled() ? navMessage(q, q.pose, q.velocity, altitudeBelow(q.pose)) : out.nav;
+    }
 
     const bool by_pose = scenario_.noise.follows_pose;
     const int64_t ps_key = by_pose ? poseNoiseKey(q.pose, q.head_angle) : q.index;

@@ -1,5 +1,7 @@
 // The simulator proper: scene + sensors + trajectory -> the LCM messages of
-// every sequence (NAV, PS ping, FLS frame every Nth), in order.
+// every sequence (NAV, NAV_TRUTH when the scenario has NAV errors or motion,
+// PS ping, FLS frame every Nth), in order. The sonars are ray-traced from the
+// true pose; NAV carries what the navigation reports (navigation.hpp).
 #pragma once
 
 #include <functional>
@@ -11,6 +13,7 @@
 #include <sonarfusion/ps_ping_t.hpp>
 
 #include "fls_sim.hpp"
+#include "navigation.hpp"
 #include "ps_sim.hpp"
 #include "scenario.hpp"
 #include "scene.hpp"
@@ -20,7 +23,9 @@ namespace sonarfusion::sim {
 
 struct SequenceOutput {
     SequenceState state;
-    nav_state_t nav;
+    nav_state_t nav;     // what the navigation reports
+    bool has_truth = false;
+    nav_state_t truth;   // the true pose, valid when has_truth (Scenario::publishesTruth)
     ps_ping_t ps;
     bool has_fls = false;
     fls_image_t fls;  // valid when has_fls
@@ -31,6 +36,8 @@ public:
     explicit Simulator(const Scenario& scenario);
 
     [[nodiscard]] const std::vector<SequenceState>& sequences() const { return sequences_; }
+    // What NAV reports for each sequence (index = sequence index).
+    [[nodiscard]] const std::vector<NavReport>& navigation() const { return navigation_; }
     [[nodiscard]] const Scenario& scenario() const { return scenario_; }
     [[nodiscard]] const Scene& scene() const { return *scene_; }
     [[nodiscard]] const FlsSimulator& fls() const { return *fls_; }
@@ -45,6 +52,8 @@ public:
 
 private:
     [[nodiscard]] double altitudeBelow(const Pose& vehicle) const;
+    [[nodiscard]] nav_state_t navMessage(const SequenceState& q, const Pose& pose, const Eigen::Vector3d& velocity,
+                                         double altitude) const;
     [[nodiscard]] fls_image_t flsMessage(const SequenceState& q, const FlsImage& image) const;
     [[nodiscard]] ps_ping_t psMessage(const SequenceState& q, std::vector<uint8_t> intensity) const;
 
@@ -53,6 +62,7 @@ private:
     std::unique_ptr<FlsSimulator> fls_;
     std::unique_ptr<PsSimulator> ps_;
     std::vector<SequenceState> sequences_;
+    std::vector<NavReport> navigation_;
 };
 
 }  // namespace sonarfusion::sim

@@ -4,17 +4,6 @@
 
 namespace sonarfusion::sim {
 
-uint64_t noiseSeed(uint64_t seed, NoiseChannel channel, int64_t sequence, uint32_t beam) {
-    // Mix each part through SplitMix so nearby inputs give unrelated streams.
-    Rng mix(seed);
-    uint64_t h = mix.next();
-    for (uint64_t part : {static_cast<uint64_t>(channel), static_cast<uint64_t>(sequence), static_cast<uint64_t>(beam)}) {
-        Rng r(h ^ (part * 0xD1B54A32D192ED03ull));
-        h = r.next();
-    }
-    return h;
-}
-
 uint8_t noisyCount(double mean_amplitude, const NoiseSpec& noise, Rng& rng) {
     double re = mean_amplitude, im = 0.0;
     if (noise.speckle && mean_amplitude > 0.0) {

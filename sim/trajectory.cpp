@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "random.hpp"
+
 namespace sonarfusion::sim {
 
 double sectorScanAngle(const PsGeometry& ps, double step, int64_t index) {
@@ -14,10 +16,46 @@ double sectorScanAngle(const PsGeometry& ps, double step, int64_t index) {
     return ps.head_min + span * static_cast<double>(position) / static_cast<double>(steps);
 }
 
+MotionModel::MotionModel(const MotionSpec& spec, uint64_t seed) : spec_(spec) {
+    for (uint32_t axis = 0; axis < 4; ++axis) {
+        Rng rng(noiseSeed(seed, NoiseChannel::Motion, 0, axis));
+        phase_[axis] = 2.0 * M_PI * rng.uniform();
+    }
+}
+
+MotionModel::Offsets MotionModel::at(double t) const {
+    Offsets o;
+    if (!spec_.enabled()) return o;
+    const double w = 2.0 * M_PI / spec_.period;
+    o.roll = spec_.roll_amplitude * std::sin(w * t + phase_[0]);
+    o.pitch = spec_.pitch_amplitude * std::sin(w * t + phase_[1]);
+    o.yaw = spec_.yaw_amplitude * std::sin(w * t + phase_[2]);
+    o.heave = spec_.heave_amplitude * std::sin(w * t + phase_[3]);
+    o.heave_rate = spec_.heave_amplitude * w * std::cos(w * t + phase_[3]);
+    return o;
+}
+
+Pose MotionModel::apply(const Pose& planned, double t) const {
+    if (!spec_.enabled()) return planned;
+    const Offsets o = at(t);
+    Pose p = planned;
+    p.roll += o.roll;
+    p.pitch += o.pitch;
+    p.yaw = std::remainder(planned.yaw + o.yaw, 2.0 * M_PI);
+    p.position.z() += o.heave;
+    return p;
+}
+
+Eigen::Vector3d MotionModel::applyVelocity(const Eigen::Vector3d& planned, double t) const {
+    if (!spec_.enabled()) return planned;
+    return planned + Eigen::Vector3d(0.0, 0.0, at(t).heave_rate);
+}
+
 namespace {
 
 struct Builder {
     const Scenario& s;
+    MotionModel motion;
     std::vector<SequenceState> out;
     int64_t period_us;
     int64_t next_utime;
@@ -27,9 +65,12 @@ struct Builder {
         q.index = static_cast<int64_t>(out.size());
         q.utime = next_utime;
         q.leg = leg;
-        q.pose.position = position;
-        q.pose.yaw = heading;
-        q.velocity = velocity;
+        q.planned.position = position;
+        q.planned.yaw = heading;
+        q.planned_velocity = velocity;
+        const double t = static_cast<double>(q.utime - s.trajectory.start_utime) * 1e-6;
+        q.pose = motion.apply(q.planned, t);
+        q.velocity = motion.applyVelocity(velocity, t);
         q.head_angle = sectorScanAngle(s.ps, s.ps_sim.head_step, q.index);
         q.has_fls = q.index % s.trajectory.fls_every == 0;
         out.push_back(q);
@@ -42,7 +83,7 @@ struct Builder {
 
 std::vector<SequenceState> buildSequences(const Scenario& s) {
     const TrajectorySpec& t = s.trajectory;
-    Builder b{s, {}, std::max<int64_t>(1, std::llround(t.sequence_period * 1e6)), t.start_utime};
+    Builder b{s, MotionModel(s.motion, s.seed), {}, std::max<int64_t>(1, std::llround(t.sequence_period * 1e6)), t.start_utime};
     int leg = 0;
     for (const StraightPass& p : t.passes) {
         const Eigen::Vector3d dir(std::cos(p.heading), std::sin(p.heading), 0.0);

@@ -62,6 +62,38 @@ TEST_F(CliTest, BadScenarioExitsNonZeroNamingTheField) {
     EXPECT_NE(r.exit_code, 0);
 }
 
+TEST_F(CliTest, BadNavigationOrMotionExitsTwoNamingTheField) {
+    TinyScenario t;
+    t.meshes = "- {file: plane.obj, role: seabed}\n";
+    t.extra = "navigation: {heading_noise_deg: -0.2}\n";
+    test::writeText(dir.file("bad.yaml"), t.yaml());
+    CliRun r = runSim(dir, "--scenario " + dir.file("bad.yaml") + " --log " + dir.file("x.lcmlog"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("navigation.heading_noise_deg"), std::string::npos) << r.err;
+    t.extra = "motion: {roll_amplitude_deg: 3, period: 0}\n";
+    test::writeText(dir.file("bad.yaml"), t.yaml());
+    r = runSim(dir, "--scenario " + dir.file("bad.yaml") + " --log " + dir.file("x.lcmlog"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("motion.period"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, TruthChannelOnlyWithNavErrorsOrMotion) {
+    TinyScenario t;
+    t.meshes = "- {file: plane.obj, role: seabed}\n";
+    t.sequences = 5;
+    t.extra = "fls: {rays_elevation: 16}\nnavigation: {latency: 0.05}\n";
+    test::writeText(dir.file("lag.yaml"), t.yaml());
+    ASSERT_EQ(runSim(dir, "--quiet --scenario " + dir.file("lag.yaml") + " --nav-truth-channel TRUE_POSE --log " +
+                              dir.file("lag.lcmlog"))
+                  .exit_code,
+              0);
+    const std::string lag = test::readBytes(dir.file("lag.lcmlog"));
+    EXPECT_NE(lag.find("TRUE_POSE"), std::string::npos);
+    EXPECT_EQ(lag.find("NAV_TRUTH"), std::string::npos);
+    ASSERT_EQ(runSim(dir, "--quiet --scenario " + dir.file("good.yaml") + " --log " + dir.file("good.lcmlog")).exit_code, 0);
+    EXPECT_EQ(test::readBytes(dir.file("good.lcmlog")).find("NAV_TRUTH"), std::string::npos);
+}
+
 TEST_F(CliTest, LogsAreByteIdenticalAcrossRunsAndThreadCounts) {
     const std::string scenario = "--quiet --scenario " + dir.file("good.yaml");
     ASSERT_EQ(runSim(dir, scenario + " --threads 1 --log " + dir.file("a.lcmlog")).exit_code, 0);
