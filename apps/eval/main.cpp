@@ -2,6 +2,7 @@
 //   sf-eval --scenario FILE --map MAP --json OUT.json --figures DIR
 //   sf-eval --scenario FILE --map fls_only=A.map --map fused=B.map ... (side by side)
 //   sf-eval --scenario FILE --maps-dir DIR   (every readable map file in DIR)
+//   sf-eval ... --log RUN.lcmlog   (also: how far NAV was from NAV_TRUTH over the run)
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -18,6 +19,10 @@
 #include "ground_truth.hpp"
 #include "map_file.hpp"
 #include "map_scoring.hpp"
+#include "nav_error.hpp"
+#ifdef SF_EVAL_NAV_LOG
+#include "nav_log.hpp"
+#endif
 #include "report.hpp"
 #include "scenario_source.hpp"
 
@@ -66,7 +71,7 @@ int variantRank(const std::string& v) {
 
 int main(int argc, char** argv) {
     CLI::App app{"sf-eval: score sonarfusion maps against the scenario's ground-truth meshes"};
-    std::string scenario_path, json_path, figures_dir, maps_dir, config_path;
+    std::string scenario_path, json_path, figures_dir, maps_dir, config_path, log_path;
     std::vector<std::string> map_args;
     bool merge = false, no_ply = false;
     VisibilityOptions vis;
@@ -76,6 +81,11 @@ int main(int argc, char** argv) {
 #ifdef SF_EVAL_MAPPER_CONFIG
     app.add_option("--config", config_path,
                    "the sf-mapper YAML the maps were made with: segment them with its settings (default: built-in defaults)")
+        ->check(CLI::ExistingFile);
+#endif
+#ifdef SF_EVAL_NAV_LOG
+    app.add_option("--log", log_path,
+                   "the run's LCM log: report how far NAV was from NAV_TRUTH (channels from the scenario)")
         ->check(CLI::ExistingFile);
 #endif
     app.add_option("--maps-dir", maps_dir, "score every map file in this folder")->check(CLI::ExistingDirectory);
@@ -104,6 +114,20 @@ int main(int argc, char** argv) {
         if (!config_path.empty()) base_config = loadDaemonConfig(config_path).mapper;
 #endif
         const EvalScenario scenario = loadEvalScenario(scenario_path);
+        NavigationReport navigation;
+#ifdef SF_EVAL_NAV_LOG
+        if (!log_path.empty()) {
+            navigation.asked = true;
+            const NavLog log = readNavLog(log_path, scenario.nav_channel, scenario.truth_channel,
+                                          scenario.max_message_bytes);
+            if (log.lost_data) std::cerr << "sf-eval: warning: " << log_path << " is damaged (bytes skipped)\n";
+            if (log.undecodable > 0)
+                std::cerr << "sf-eval: warning: " << log.undecodable << " undecodable NAV/NAV_TRUTH events in "
+                          << log_path << "\n";
+            if (log.nav.empty()) std::cerr << "sf-eval: warning: no " << scenario.nav_channel << " in " << log_path << "\n";
+            navigation.stats = compareNavigation(log.nav, log.truth);
+        }
+#endif
         if (scenario.object_meshes.empty())
             std::cerr << "sf-eval: " << scenario.name << " has no object mesh: every predicted object is false\n";
         std::cerr << "sf-eval: ground truth and visibility for " << scenario.name << " ...\n";
@@ -153,8 +177,9 @@ int main(int argc, char** argv) {
         std::vector<VariantScore> scores;
         for (const auto& l : loaded) scores.push_back(l.score);
         std::cout << "scenario " << scenario.name << "\n" << scoreTable(scores);
+        if (navigation.asked) std::cout << navigationSummary(navigation) << "\n";
         if (!json_path.empty()) {
-            writeReport(json_path, scenario.name, scores, merge);
+            writeReport(json_path, scenario.name, scores, merge, navigation);
             std::cerr << "sf-eval: wrote " << json_path << "\n";
         }
         if (!figures_dir.empty()) {

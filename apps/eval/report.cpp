@@ -49,6 +49,24 @@ json variantJson(const VariantScore& s) {
     return j;
 }
 
+json navigationJson(const NavigationReport& r) {
+    if (!r.stats) return json(nullptr);
+    const NavErrorStats& s = *r.stats;
+    json j;
+    j["position_rms_m"] = s.position_rms_m;
+    j["position_max_m"] = s.position_max_m;
+    j["heading_rms_deg"] = s.heading_rms_deg;
+    j["heading_max_deg"] = s.heading_max_deg;
+    j["samples"] = s.samples;
+    j["horizontal_rms_m"] = s.horizontal_rms_m;
+    j["horizontal_max_m"] = s.horizontal_max_m;
+    j["depth_rms_m"] = s.depth_rms_m;
+    j["attitude_rms_deg"] = s.attitude_rms_deg;
+    j["nav_unmatched"] = s.nav_unmatched;
+    j["truth_unmatched"] = s.truth_unmatched;
+    return j;
+}
+
 std::string cell(const std::optional<double>& v, int precision) {
     if (!v) return "null";
     std::ostringstream o;
@@ -58,7 +76,7 @@ std::string cell(const std::optional<double>& v, int precision) {
 }  // namespace
 
 std::string reportJson(const std::string& scenario, const std::vector<VariantScore>& scores,
-                       const std::string& merge_into) {
+                       const std::string& merge_into, const NavigationReport& navigation) {
     json report;
     if (!merge_into.empty() && std::filesystem::exists(merge_into)) {
         std::ifstream in(merge_into);
@@ -75,12 +93,13 @@ std::string reportJson(const std::string& scenario, const std::vector<VariantSco
         if (!m.is_object()) m = json::object();
         m.update(variantJson(s));
     }
+    if (navigation.asked) report["navigation"] = navigationJson(navigation);
     return report.dump(2) + "\n";
 }
 
 void writeReport(const std::string& path, const std::string& scenario, const std::vector<VariantScore>& scores,
-                 bool merge) {
-    const std::string text = reportJson(scenario, scores, merge ? path : "");
+                 bool merge, const NavigationReport& navigation) {
+    const std::string text = reportJson(scenario, scores, merge ? path : "", navigation);
     const std::string tmp = path + ".tmp";
     {
         std::ofstream out(tmp, std::ios::trunc);

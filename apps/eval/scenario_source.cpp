@@ -1,10 +1,12 @@
 #include "scenario_source.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "scenario.hpp"
 #include "sonarfusion/pose.hpp"
 #include "sonarfusion/track_axis.hpp"
+#include "navigation.hpp"
 #include "trajectory.hpp"
 
 namespace sonarfusion::eval {
@@ -22,9 +24,18 @@ EvalScenario loadEvalScenario(const std::string& path) {
     }
     SensorRun fls{"fls", SensorFov::fls(s.fls), {}};
     SensorRun ps{"ps", SensorFov::ps(s.ps), {}};
+    out.nav_channel = s.channels.nav;
+    out.truth_channel = s.channels.nav_truth;
+    // An FLS frame is the largest message: its pixels plus per-beam and per-row floats.
+    const std::size_t fls_bytes = static_cast<std::size_t>(s.fls.beams) * static_cast<std::size_t>(s.fls.rows) +
+                                  4 * static_cast<std::size_t>(s.fls.beams + s.fls.rows) + 4096;
+    out.max_message_bytes = std::max<std::size_t>(out.max_message_bytes, fls_bytes);
     TrackAxis track;
-    for (const sim::SequenceState& q : sim::buildSequences(s)) {
-        track.add(q.pose.yaw);
+    const std::vector<sim::SequenceState> sequences = sim::buildSequences(s);
+    // The mapper's track axis comes from the NAV headings; the visibility
+    // poses below are the true ones (the world frame is the truth's).
+    for (const sim::NavReport& r : sim::reportNavigation(s, sequences)) track.add(r.reported.yaw);
+    for (const sim::SequenceState& q : sequences) {
         const Eigen::Isometry3d ps_pose = sensorToWorld(q.pose, s.ps_mount);
         ps.poses.push_back({ps_pose.translation(), ps_pose.linear()});
         if (q.has_fls) {

@@ -14,11 +14,14 @@ namespace sonarfusion::eval {
 struct EvalScenario {
     std::string name;
     std::vector<std::string> object_meshes, seabed_meshes;
-    std::vector<SensorRun> runs;  // "fls" (frames only), "ps" (every sequence)
+    std::vector<SensorRun> runs;  // "fls" (frames only), "ps" (every sequence), from the TRUE poses
     Eigen::Vector3d along_track = Eigen::Vector3d::UnitX();  // heading of the first pass
     // Axial mean of the vehicle headings of every sequence (one NAV each), as
-    // the mapper's TrackAxis sees them; zero when they do not share one axis.
+    // the mapper's TrackAxis sees them (the NAV's headings, heading errors
+    // included); zero when they do not share one axis.
     Eigen::Vector2d track_axis = Eigen::Vector2d::Zero();
+    std::string nav_channel = "NAV", truth_channel = "NAV_TRUTH";  // the scenario's channel names
+    std::size_t max_message_bytes = 1 << 20;  // bounds one LCM event of this scenario's messages
     std::optional<double> declared_face_angle_deg;
 };
 
