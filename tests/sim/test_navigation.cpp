@@ -3,6 +3,7 @@
 // and what the simulator publishes (NAV, NAV_TRUTH, sonars from the truth).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <lcm/lcm-cpp.hpp>
 
