@@ -1,5 +1,5 @@
 // Seed corpora for the fuzzers, so each starts past the first checks:
-//   make_fuzz_corpus DIR [mapper_input|lcm_log|map_file]   (default mapper_input)
+//   make_fuzz_corpus DIR [mapper_input|lcm_log|map_file|checkpoint]   (default mapper_input)
 // mapper_input: NAV, FLS and PS encodings with the channel byte in front, most
 // of them valid for the daemon's default configuration (geometry included);
 // lcm_log: the three limit bytes of fuzz_lcm_log, then small logs of those
@@ -195,6 +195,8 @@ int main(int argc, char** argv) {
         lcmLog(argv[1]);
     } else if (kind == "map_file") {
         mapFile(argv[1]);
+    } else if (kind == "checkpoint") {
+        // none yet: fuzz_checkpoint starts from an empty corpus
     } else {
         std::fprintf(stderr, "unknown corpus kind %s\n", kind.c_str());
         return 2;
