@@ -458,13 +458,21 @@ std::size_t encodedBound<ps_ping_t>(const MapperConfig& m) {
     return 256 + 256 + static_cast<std::size_t>(m.ps.bins);
 }
 
+// Waiting messages in (utime, seq) order, whatever slots they sit in, so equal
+// states give equal bytes (no allocation: a selection over the few slots).
 template <class P>
 void savePending(StateWriter& w, const std::vector<P>& slots) {
     uint64_t n = 0;
     for (const P& p : slots) n += p.used;
     w.pod(n);
-    for (const P& p : slots) {
-        if (!p.used) continue;
+    const P* prev = nullptr;
+    for (uint64_t i = 0; i < n; ++i) {
+        const P* next = nullptr;
+        for (const P& q : slots)
+            if (q.used && (!prev || earlier(*prev, q)) && (!next || earlier(q, *next))) next = &q;
+        if (!next) break;
+        prev = next;
+        const P& p = *next;
         const int size = p.msg.getEncodedSize();
         w.pod(p.nav_epoch);
         w.pod(static_cast<uint32_t>(size));

@@ -5,6 +5,12 @@
 // lcm_log: the three limit bytes of fuzz_lcm_log, then small logs of those
 // messages (one whole, one with a damaged event, one cut short);
 // map_file: small maps as saveMap writes them.
+#include "checkpoint.hpp"
+#include "checkpoint_fuzz_config.hpp"
+#include "mapper_node.hpp"
+#include <fstream>
+#include <iterator>
+#include <cstdio>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -184,6 +190,53 @@ void mapFile(const std::string& dir) {
     }
     sonarfusion::saveMap(dir + "/map_anchored", map, "carve_only");
 }
+// Valid states of the fuzzer's small config: after NAV and pings (some still
+// waiting), as a whole file (first byte odd) and as a bare payload (even).
+void checkpoints(const std::string& dir) {
+    const sonarfusion::DaemonConfig cfg = sffuzz::checkpointFuzzConfig();
+    sonarfusion::MapperNode node(cfg, {});
+    for (int i = 0; i < 40; ++i) {
+        sonarfusion::nav_state_t n{};
+        n.utime = 1000000 + i * 20000;
+        n.seq = i;
+        n.position_ned[0] = 0.01 * i;
+        n.position_ned[2] = 16.9;
+        std::vector<uint8_t> b(static_cast<std::size_t>(n.getEncodedSize()));
+        n.encode(b.data(), 0, static_cast<int>(b.size()));
+        node.handle(cfg.nav_channel, b.data(), b.size());
+        sonarfusion::ps_ping_t p{};
+        p.utime = n.utime + 30000;  // waits for the next NAV
+        p.seq = i;
+        p.tilt = static_cast<float>(cfg.mapper.ps.tilt);
+        p.fan_min = static_cast<float>(cfg.mapper.ps.fan_min);
+        p.fan_max = static_cast<float>(cfg.mapper.ps.fan_max);
+        p.range_max = static_cast<float>(cfg.mapper.ps.range_max);
+        p.num_bins = cfg.mapper.ps.bins;
+        p.intensity.assign(static_cast<std::size_t>(p.num_bins), 0);
+        p.intensity[240] = 100;
+        std::vector<uint8_t> q(static_cast<std::size_t>(p.getEncodedSize()));
+        p.encode(q.data(), 0, static_cast<int>(q.size()));
+        node.handle(cfg.ps_channel, q.data(), q.size());
+    }
+    std::vector<uint8_t> payload(node.stateBytesBound());
+    sonarfusion::StateWriter w(payload.data(), payload.size());
+    node.saveState(w);
+    payload.resize(w.size());
+    std::vector<uint8_t> bare{0};
+    bare.insert(bare.end(), payload.begin(), payload.end());
+    writeFile(dir, "payload", bare);
+    const std::string path = dir + "/.checkpoint.tmpfile";
+    {
+        sonarfusion::CheckpointWriter cw(path, node.stateBytesBound(), sonarfusion::configFingerprint(cfg));
+        (void)cw.submit([&](sonarfusion::StateWriter& sw) { node.saveState(sw); });
+        cw.drain();
+    }
+    std::ifstream f(path, std::ios::binary);
+    std::vector<uint8_t> file{1};
+    file.insert(file.end(), std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    std::remove(path.c_str());
+    writeFile(dir, "file", file);
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -196,7 +249,7 @@ int main(int argc, char** argv) {
     } else if (kind == "map_file") {
         mapFile(argv[1]);
     } else if (kind == "checkpoint") {
-        // none yet: fuzz_checkpoint starts from an empty corpus
+        checkpoints(argv[1]);
     } else {
         std::fprintf(stderr, "unknown corpus kind %s\n", kind.c_str());
         return 2;
