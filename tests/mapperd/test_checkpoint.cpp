@@ -10,17 +10,12 @@
 
 #include "checkpoint.hpp"
 #include "mapper_node.hpp"
+#include "node_test_util.hpp"
 
 using namespace sonarfusion;
+using sonarfusion::test::send;
 
 namespace {
-template <class Msg>
-void send(MapperNode& node, const std::string& channel, const Msg& msg) {
-    std::vector<uint8_t> b(msg.getEncodedSize());
-    msg.encode(b.data(), 0, static_cast<int>(b.size()));
-    node.handle(channel, b.data(), b.size());
-}
-
 // NAV at 50 Hz and PS pings between, with seabed echoes and, in the middle, a
 // 0.5 m rise: enough for the detector to anchor the map part way.
 void stream(MapperNode& node, int from, int to) {

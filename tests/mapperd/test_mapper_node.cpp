@@ -11,23 +11,13 @@
 
 #include "mapper_config_yaml.hpp"
 #include "mapper_node.hpp"
+#include "node_test_util.hpp"
 
 using namespace sonarfusion;
+using sonarfusion::test::encode;
+using sonarfusion::test::send;
 
 namespace {
-template <class Msg>
-std::vector<uint8_t> encode(const Msg& msg) {
-    std::vector<uint8_t> buf(msg.getEncodedSize());
-    msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
-    return buf;
-}
-
-template <class Msg>
-void send(MapperNode& node, const std::string& channel, const Msg& msg) {
-    const auto b = encode(msg);
-    node.handle(channel, b.data(), b.size());
-}
-
 nav_state_t nav(int64_t utime, double x, int64_t seq) {
     nav_state_t n{};
     n.utime = utime;

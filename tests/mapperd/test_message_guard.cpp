@@ -5,18 +5,13 @@
 #include <random>
 
 #include "mapper_node.hpp"
+#include "node_test_util.hpp"
 #include "message_guard.hpp"
 
 using namespace sonarfusion;
+using sonarfusion::test::encode;
 
 namespace {
-template <class Msg>
-std::vector<uint8_t> encode(const Msg& msg) {
-    std::vector<uint8_t> buf(msg.getEncodedSize());
-    msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
-    return buf;
-}
-
 fls_image_t validFls() {
     fls_image_t m{};
     m.utime = 1;

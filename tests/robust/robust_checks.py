@@ -89,6 +89,15 @@ def read_map(path):
     return lo, occ
 
 
+def fresh_checkpoint(out):
+    """The checkpoint path of a test, with no file left from an earlier run."""
+    ck = f"{out}/mapper.ckpt"
+    for stale in (ck, ck + ".tmp"):
+        if os.path.exists(stale):
+            os.remove(stale)
+    return ck
+
+
 def checkpoint_loads(build, cfg, ck):
     r = subprocess.run([f"{build}/apps/mapperd/sf-mapper", "--config", cfg, "--checkpoint", ck,
                         "--check-checkpoint"], capture_output=True, text=True)
@@ -99,10 +108,7 @@ def offline_kill(root, build, scenario, out, hostile):
     log = simulate(build, scenario, out)
     cfg = config_with(root, out, checkpoint_period_s=1.0)
     ref = offline_map(build, cfg, log, out, "uninterrupted")
-    ck = f"{out}/mapper.ckpt"
-    for stale in (ck, ck + ".tmp"):
-        if os.path.exists(stale):
-            os.remove(stale)
+    ck = fresh_checkpoint(out)
     mapper = [f"{build}/apps/mapperd/sf-mapper", "--config", cfg, "--log", log, "--map-out", f"{out}/resumed.map",
               "--checkpoint", ck, "--resume", "--quiet"]
     kills = 0
@@ -121,22 +127,11 @@ def offline_kill(root, build, scenario, out, hostile):
           "map after 3 SIGKILLs and --resume == uninterrupted map (byte for byte)")
 
 
-LIVE = r"""
-set -e
-ip link set lo up
-ip route add 239.0.0.0/8 dev lo
-"$SIM" --scenario "$SCENARIO" --publish --rate "$RATE" --lcm-url "$URL" --threads 1 --quiet & sim=$!
-"""
-
-
 def live_kill(root, build, scenario, out, hostile):
     log = simulate(build, scenario, out)
     cfg = config_with(root, out, checkpoint_period_s=0.5)
     ref = offline_map(build, cfg, log, out, "offline")
-    ck = f"{out}/mapper.ckpt"
-    for stale in (ck, ck + ".tmp"):
-        if os.path.exists(stale):
-            os.remove(stale)
+    ck = fresh_checkpoint(out)
     # 64 s of data at 8x: 8 s live; SIGKILL at 2, 4 and 6 s, restarted at once.
     script = r"""
 set -e
