@@ -6,41 +6,61 @@
 
 namespace sonarfusion::sim {
 
-namespace {
-void throwOnError(RTCDevice device, const char* what) {
-    const RTCError err = rtcGetDeviceError(device);
-    if (err != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error ") + std::to_string(err) + " in " + what);
-}
-}  // namespace
-
 Scene::Scene(const SceneSpec& spec) {
     std::vector<TriangleMesh> meshes;
     meshes.reserve(spec.meshes.size());
     for (const MeshSpec& m : spec.meshes) meshes.push_back(loadMesh(m.path));
-    build(meshes, spec.meshes, spec.water_impedance);
+    build(meshes, spec.meshes, spec.water_impedance, "");
 }
 
-Scene::Scene(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials,
-             double water_impedance) {
+Scene::Scene(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials, double water_impedance,
+             const std::string& embree_config) {
     if (meshes.size() != materials.size()) throw std::invalid_argument("Scene: one material per mesh");
-    build(meshes, materials, water_impedance);
+    build(meshes, materials, water_impedance, embree_config);
 }
 
 void Scene::build(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials,
-                  double water_impedance) {
-    device_ = rtcNewDevice(nullptr);
-    if (!device_) throw std::runtime_error("Embree: cannot create device");
-    scene_ = rtcNewScene(device_);
+                  double water_impedance, const std::string& embree_config) {
+    device_ = std::make_unique<EmbreeDevice>(embree_config);  // logs and records every Embree error
+    scene_ = rtcNewScene(device_->get());
+    if (!scene_) {
+        device_->check("rtcNewScene");
+        throw std::runtime_error("Embree: rtcNewScene failed");
+    }
+    try {
+        addMeshes(meshes, materials, water_impedance);
+    } catch (...) {  // ~Scene does not run when a constructor throws
+        rtcReleaseScene(scene_);
+        scene_ = nullptr;
+        throw;
+    }
+}
+
+void Scene::addMeshes(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials,
+                      double water_impedance) {
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);  // built once, cast millions of times
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         const TriangleMesh& m = meshes[i];
-        RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), m.vertices.size()));
+        RTCGeometry geom = rtcNewGeometry(device_->get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+        if (!geom) {
+            device_->check("rtcNewGeometry (mesh " + std::to_string(i) + ")");
+            throw std::runtime_error("Embree: rtcNewGeometry failed (mesh " + std::to_string(i) + ")");
+        }
+        float* v = nullptr;
+        unsigned* idx = nullptr;
+        try {
+            v = static_cast<float*>(device_->newGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), m.vertices.size(),
+                                                               "vertex buffer of mesh " + std::to_string(i)));
+            idx = static_cast<unsigned*>(device_->newGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3,
+                                                                    3 * sizeof(unsigned), m.triangles.size(),
+                                                                    "index buffer of mesh " + std::to_string(i)));
+        } catch (...) {
+            rtcReleaseGeometry(geom);
+            throw;
+        }
         for (std::size_t k = 0; k < m.vertices.size(); ++k)
             for (int a = 0; a < 3; ++a) v[3 * k + a] = static_cast<float>(m.vertices[k][a]);
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(unsigned), m.triangles.size()));
         for (std::size_t k = 0; k < m.triangles.size(); ++k)
             for (int a = 0; a < 3; ++a) idx[3 * k + a] = m.triangles[k][a];
         rtcCommitGeometry(geom);
@@ -52,12 +72,11 @@ void Scene::build(const std::vector<TriangleMesh>& meshes, const std::vector<Mes
         triangles_ += m.triangles.size();
     }
     rtcCommitScene(scene_);
-    throwOnError(device_, "scene build");
+    device_->check("scene build");
 }
 
 Scene::~Scene() {
     if (scene_) rtcReleaseScene(scene_);
-    if (device_) rtcReleaseDevice(device_);
 }
 
 void Scene::cast(const Eigen::Vector3f& origin, const Eigen::Vector3f* directions, int n, float near, float far,

@@ -6,8 +6,11 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
+#include "embree_device.hpp"
 #include "mesh_io.hpp"
 #include "scenario.hpp"
 
@@ -22,10 +25,13 @@ struct RayHit {
 
 class Scene {
 public:
-    // Loads every mesh of the spec. Throws std::runtime_error on bad meshes.
+    // Loads every mesh of the spec. Throws std::runtime_error on bad meshes
+    // and on any Embree error (which the device also logs to stderr).
     explicit Scene(const SceneSpec& spec);
     // From meshes already in memory (tests); materials[i] belongs to meshes[i].
-    Scene(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials, double water_impedance);
+    // embree_config: Embree's device configuration string ("" = its defaults).
+    Scene(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials, double water_impedance,
+          const std::string& embree_config = "");
     ~Scene();
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
@@ -38,11 +44,16 @@ public:
     // Pressure reflection coefficient (Z - Z0) / (Z + Z0) of a mesh's material.
     [[nodiscard]] double reflectionCoefficient(uint32_t mesh) const { return reflection_[mesh]; }
     [[nodiscard]] std::size_t triangleCount() const { return triangles_; }
+    // Errors Embree reported on this scene's device (none in a good run).
+    [[nodiscard]] std::size_t embreeErrorCount() const { return device_->errorCount(); }
 
 private:
-    void build(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials, double water_impedance);
+    void build(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials, double water_impedance,
+               const std::string& embree_config);
+    void addMeshes(const std::vector<TriangleMesh>& meshes, const std::vector<MeshSpec>& materials,
+                   double water_impedance);
 
-    RTCDevice device_ = nullptr;
+    std::unique_ptr<EmbreeDevice> device_;  // released after scene_ (~Scene)
     RTCScene scene_ = nullptr;
     std::vector<double> reflection_;  // per Embree geometry id (== mesh index)
     std::size_t triangles_ = 0;

@@ -1,25 +1,13 @@
-// A plain triangle mesh (no CGAL types) that the evaluator's modules pass
-// around; CGAL structures are built from it inside the .cpp files only.
+// The evaluator's triangle mesh is the project's one mesh type, read by the
+// project's one reader (sim/mesh_io.hpp, library sf_mesh_io: CGAL's OBJ, OFF
+// and PLY readers). The evaluator's modules build their CGAL structures from
+// it inside their .cpp files only.
 #pragma once
 
-#include <Eigen/Core>
-#include <array>
-#include <string>
-#include <vector>
+#include "mesh_io.hpp"
 
 namespace sonarfusion::eval {
-
-struct TriangleMesh {
-    std::vector<Eigen::Vector3d> vertices;
-    std::vector<std::array<int, 3>> triangles;
-};
-
-// OFF, OBJ or PLY (ascii or binary, by extension) through CGAL's polygon-soup
-// reader; polygons are fan-triangulated. Throws std::runtime_error naming the
-// file on failure or on an empty mesh.
-[[nodiscard]] TriangleMesh loadMesh(const std::string& path);
-
-// Axis-aligned bounds of the vertices.
-void meshBounds(const TriangleMesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
-
+using mesh::loadMesh;
+using mesh::meshBounds;
+using mesh::TriangleMesh;
 }  // namespace sonarfusion::eval

@@ -1,0 +1,15 @@
+# sf_mesh_io: the project's one triangle-mesh type and reader (mesh_io.hpp,
+# CGAL's OBJ/OFF/PLY readers in mesh_io.cpp only). Linked by the simulator's
+# sf_scenario and by the evaluator's sf_eval; included from sim/CMakeLists.txt,
+# or from apps/eval/CMakeLists.txt when the simulator is not built.
+if(NOT TARGET sf_mesh_io)
+  find_package(CGAL REQUIRED)
+  add_library(sf_mesh_io STATIC ${CMAKE_CURRENT_LIST_DIR}/mesh_io.cpp)
+  target_include_directories(sf_mesh_io PUBLIC ${CMAKE_CURRENT_LIST_DIR})
+  target_link_libraries(sf_mesh_io PUBLIC Eigen3::Eigen PRIVATE CGAL::CGAL)
+  # CGAL's own headers are not warning-clean under -Wpedantic.
+  get_target_property(_sf_mesh_cgal_inc CGAL::CGAL INTERFACE_INCLUDE_DIRECTORIES)
+  if(_sf_mesh_cgal_inc)
+    target_include_directories(sf_mesh_io SYSTEM PRIVATE ${_sf_mesh_cgal_inc})
+  endif()
+endif()
