@@ -21,6 +21,9 @@
 #include "mapper_config_yaml.hpp"
 #include "mapper_node.hpp"
 #include "sonarfusion/variant.hpp"
+#ifdef SF_WITH_OCTOMAP
+#include "octomap_export.hpp"
+#endif
 
 using namespace sonarfusion;
 
@@ -202,6 +205,11 @@ int main(int argc, char** argv) {
     app.add_flag("--check-checkpoint", check_checkpoint,
                  "only check that the --checkpoint file loads with this config (exit 0) or say why not (exit 2)");
     app.add_flag("--quiet", quiet, "no summary on stdout");
+    std::string octomap_out;
+#ifdef SF_WITH_OCTOMAP
+    app.add_option("--octomap-out", octomap_out,
+                   "also write the final map as an OctoMap OcTree binary (.bt, ENU) for octovis (docs/map-format.md)");
+#endif
     CLI11_PARSE(app, argc, argv);
 
     DaemonConfig cfg;
@@ -247,6 +255,7 @@ int main(int argc, char** argv) {
     }
     try {
         checkWritable(map_out, "map (--map-out)");
+        if (!octomap_out.empty()) checkWritable(octomap_out, "OctoMap (--octomap-out)");
         if (!status_out.empty()) checkWritable(status_out, "status (--status-out)");
         if (!checkpoint_path.empty()) checkWritable(checkpoint_path, "checkpoint (--checkpoint)");
     } catch (const std::exception& e) {
@@ -315,6 +324,13 @@ int main(int argc, char** argv) {
                          checkpoints->written(), checkpoints->failed(), checkpoints->skipped(), checkpoint_copy_max_us);
         }
         writeOutputs(node, map_out);
+#ifdef SF_WITH_OCTOMAP
+        if (!octomap_out.empty()) {  // the occupied set of the map just written (octomap_export.hpp)
+            const OctomapExportStats st =
+                writeOctomap(octomap_out, node.mapper().map(), cfg.mapper.segmentation.occupied_probability);
+            spdlog::info("OctoMap written to {} ({} occupied, {} free voxels)", octomap_out, st.occupied, st.free);
+        }
+#endif
         if (lcm) node.publishStatus();
         if (!status_out.empty()) writeStatusJson(node, status_out);
         if (!quiet) printSummary(node);
