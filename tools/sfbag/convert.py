@@ -256,7 +256,10 @@ def ros_to_ps(L, msg, topic, idx, cfg, fscale):
         grid = ranges[0] + (ranges[-1] - ranges[0]) * np.arange(n) / (n - 1)
         step = (ranges[-1] - ranges[0]) / (n - 1)
         if np.max(np.abs(ranges.astype(np.float64) - grid)) > 1e-3 * step + 1e-5:
-            u8 = u8[np.clip(np.searchsorted(ranges, grid), 0, n - 1)]
+            hi = np.clip(np.searchsorted(ranges, grid), 1, n - 1)
+            lo = hi - 1
+            nearest = np.where(np.abs(grid - ranges[lo]) <= np.abs(ranges[hi] - grid), lo, hi)
+            u8 = u8[nearest]
     m = L.ps_ping_t()
     m.utime = utime_of(msg.header.stamp)
     m.sensor_name = msg.header.frame_id
