@@ -3,6 +3,8 @@
 //   sf-eval --scenario FILE --map fls_only=A.map --map fused=B.map ... (side by side)
 //   sf-eval --scenario FILE --maps-dir DIR   (every readable map file in DIR)
 //   sf-eval ... --log RUN.lcmlog   (also: how far NAV was from NAV_TRUTH over the run)
+//   sf-eval --scenario FILE --map-dir DIR --json OUT.json   (a survey: sf-mapper --map-dir's
+//           map_<k>.map + map_<k>.objects.json, every true object against every published one)
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -25,6 +27,7 @@
 #endif
 #include "report.hpp"
 #include "scenario_source.hpp"
+#include "survey.hpp"
 
 namespace fs = std::filesystem;
 using namespace sonarfusion;
@@ -71,7 +74,7 @@ int variantRank(const std::string& v) {
 
 int main(int argc, char** argv) {
     CLI::App app{"sf-eval: score sonarfusion maps against the scenario's ground-truth meshes"};
-    std::string scenario_path, json_path, figures_dir, maps_dir, config_path, log_path;
+    std::string scenario_path, json_path, figures_dir, maps_dir, config_path, log_path, survey_dir;
     std::vector<std::string> map_args;
     bool merge = false, no_ply = false;
     VisibilityOptions vis;
@@ -89,6 +92,9 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingFile);
 #endif
     app.add_option("--maps-dir", maps_dir, "score every map file in this folder")->check(CLI::ExistingDirectory);
+    app.add_option("--map-dir", survey_dir,
+                   "survey: score the finalised maps of sf-mapper --map-dir (map_<k>.map, map_<k>.objects.json)")
+        ->check(CLI::ExistingDirectory);
     app.add_option("--json", json_path, "write report.json here");
     app.add_flag("--merge", merge, "keep the other variants (and extra keys) of an existing --json file");
     app.add_option("--figures", figures_dir, "write PNG projections and PLY clouds here");
@@ -107,7 +113,9 @@ int main(int argc, char** argv) {
         for (const auto& a : map_args) inputs.push_back(parseMapArgument(a));
         if (!maps_dir.empty())
             for (const auto& m : mapsInDir(maps_dir)) inputs.push_back(m);
-        if (inputs.empty()) throw std::runtime_error("no map given (--map or --maps-dir)");
+        if (inputs.empty() && survey_dir.empty()) throw std::runtime_error("no map given (--map, --maps-dir or --map-dir)");
+        if (!inputs.empty() && !survey_dir.empty())
+            throw std::runtime_error("--map-dir (a survey) does not mix with --map or --maps-dir");
 
         MapperConfig base_config;  // what sf-mapper uses without a config file
 #ifdef SF_EVAL_MAPPER_CONFIG
@@ -130,6 +138,33 @@ int main(int argc, char** argv) {
 #endif
         if (scenario.object_meshes.empty())
             std::cerr << "sf-eval: " << scenario.name << " has no object mesh: every predicted object is false\n";
+        if (!survey_dir.empty()) {  // survey scoring (survey.hpp, docs/evaluation.md "Survey scoring")
+            std::vector<SurveyMap> maps = readSurveyDir(survey_dir);
+            if (maps.empty()) std::cerr << "sf-eval: warning: no map_<k>.map in " << survey_dir << "\n";
+            for (SurveyMap& m : maps)
+                if (m.objects_source == "segmented") {
+                    std::cerr << "sf-eval: " << m.map_path << " has no objects file: segmenting it\n";
+                    segmentSurveyMap(m, base_config, scenario.track_axis);
+                }
+            const auto t0 = std::chrono::steady_clock::now();
+            const SurveyTruth truth =
+                makeSurveyTruth(scenario.object_meshes, scenario.seabed_meshes, scenario.runs, vis);
+            std::cerr << "sf-eval: " << truth.objects.size() << " true object(s), visibility " << seconds(t0) << " s\n";
+            const auto t1 = std::chrono::steady_clock::now();
+            truthInMaps(truth, maps);
+            const SurveyScore score = scoreSurvey(truth, maps);
+            std::cerr << "sf-eval: " << maps.size() << " map(s) voxelised and matched, " << seconds(t1) << " s\n";
+            std::cout << "scenario " << scenario.name << " (survey, " << maps.size() << " map(s))\n" << surveyTable(score);
+            if (navigation.asked) std::cout << navigationSummary(navigation) << "\n";
+            if (!json_path.empty()) {
+                writeSurveyReport(json_path, scenario.name, score, maps, navigation);
+                std::cerr << "sf-eval: wrote " << json_path << "\n";
+            }
+            if (!figures_dir.empty())
+                for (const auto& p : writeSurveyPointClouds(figures_dir, maps, score))
+                    std::cerr << "sf-eval: wrote " << p << "\n";
+            return 0;
+        }
         std::cerr << "sf-eval: ground truth and visibility for " << scenario.name << " ...\n";
         const auto t0 = std::chrono::steady_clock::now();
         const SceneTruth scene = makeSceneTruth(scenario.name, scenario.object_meshes, scenario.seabed_meshes,
