@@ -1,4 +1,4 @@
-// End-face angle of a reconstruction (DESIGN.md §5; docs/evaluation.md).
+// End-face angle of a reconstruction (docs/design.md, "Evaluation"; docs/evaluation.md).
 //
 // True end faces: the object's triangles whose unit normal has |n.a| >= 0.5
 // along the horizontal along-track axis a, split by the sign of n.a into the

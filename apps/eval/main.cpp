@@ -1,4 +1,5 @@
-// sf-eval: scores saved maps against the scenario's meshes (DESIGN.md §5, §7).
+// sf-eval: scores saved maps against the scenario's meshes (docs/design.md,
+// "Evaluation" and "Entry points").
 //   sf-eval --scenario FILE --map MAP --json OUT.json --figures DIR
 //   sf-eval --scenario FILE --map fls_only=A.map --map fused=B.map ... (side by side)
 //   sf-eval --scenario FILE --maps-dir DIR   (every readable map file in DIR)

@@ -1,4 +1,4 @@
-// Reconstruction metrics of DESIGN.md §5 on voxel sets of one grid
+// Reconstruction metrics of docs/design.md ("Evaluation") on voxel sets of one grid
 // (docs/evaluation.md says the same in prose).
 //
 // P = predicted object voxels, G = ground-truth object solid, V = visible

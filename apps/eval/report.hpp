@@ -1,4 +1,4 @@
-// report.json (DESIGN.md §7) and the side-by-side table on stdout.
+// report.json (docs/design.md, "Entry points") and the side-by-side table on stdout.
 //
 // {"scenario": NAME, "variants": {"fls_only": M, "carve_only": M, "paper": M, "fused": M},
 //  "navigation": N}   (only with sf-eval --log; null when the log has no NAV_TRUTH)

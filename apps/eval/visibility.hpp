@@ -1,4 +1,5 @@
-// Which parts of the object surface a run could see (DESIGN.md §5: recall is
+// Which parts of the object surface a run could see (docs/design.md,
+// "Evaluation": recall is
 // measured on the surface visible from at least one sensor pose; shadowed
 // faces are excluded as in the paper).
 //

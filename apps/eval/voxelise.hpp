@@ -1,4 +1,5 @@
-// Ground-truth voxelisation of a triangle mesh into the map's grid (DESIGN.md §5).
+// Ground-truth voxelisation of a triangle mesh into the map's grid
+// (docs/design.md, "Evaluation").
 //
 // A cell belongs to the mesh's solid when
 //   (a) the mesh is closed and the cell centre is inside or on it

@@ -26,7 +26,7 @@ void applyVariant(Variant v, MapperConfig& cfg) {
         case Variant::Fused:
             break;
         case Variant::Paper:
-            // DESIGN.md §3: the paper-literal prototype used P_o 0.7, P_f 0.4,
+            // docs/design.md ("FLS log-odds update"): the paper-literal prototype used P_o 0.7, P_f 0.4,
             // alpha_F 1, alpha_P 1, one update per pixel-point, no confirmation.
             u.p_occupied = 0.7;
             u.p_free = 0.4;

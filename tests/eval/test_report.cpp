@@ -1,4 +1,4 @@
-// report.json format (DESIGN.md §7) and the merge of several runs into one file.
+// report.json format (docs/design.md, "Entry points") and the merge of several runs into one file.
 #include <gtest/gtest.h>
 
 #include <fstream>

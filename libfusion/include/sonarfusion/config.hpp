@@ -65,7 +65,7 @@ struct MapConfig {
 };
 
 // Which of the paper's stages run and how evidence is counted. The four
-// variants of DESIGN.md §7 are presets of this struct (see variant.hpp).
+// variants of docs/design.md ("Variants") are presets of this struct (see variant.hpp).
 struct UpdateConfig {
     bool fls_enabled = true;
     bool ps_carving_enabled = true;
@@ -80,7 +80,8 @@ struct UpdateConfig {
     // FLS pixel threshold (paper 2.2: 150 of 255).
     int fls_intensity_threshold = 150;
     // Count each voxel at most once per FLS frame with the strongest intensity
-    // that fell in it (DESIGN.md §3 "evidence counting"; OctoMap does the same).
+    // that fell in it (docs/design.md, "FLS log-odds update": evidence counting;
+    // OctoMap does the same).
     bool fls_once_per_frame = true;
     // Spacing of the candidate points along each elevation arc, in voxels. A
     // fixed N_v = 5 over 14 deg puts them 0.3-0.6 m apart at 5-10 m range, so
@@ -168,11 +169,11 @@ struct SegmentationConfig {
     // looks down at 20-60 deg and never sees under an object's top edge or the
     // lower flanks of a rounded body, while the FLS does.
     bool fill_below_objects = true;
-    // PS confirmation (DESIGN.md §3), where the variant requires it: a voxel is
+    // PS confirmation (docs/design.md, "Completion and segmentation"), where the variant requires it: a voxel is
     // confirmed when a PS echo (the end point of Eq. 11) fell within this many
     // voxels of it (Chebyshev distance). A ray that merely crosses a voxel is
     // evidence of free space, not of an object. Negative: any PS ray crossing or
-    // ending in the voxel confirms it (the rule as DESIGN.md first wrote it).
+    // ending in the voxel confirms it (the rule as the design first wrote it).
     int ps_echo_radius = 1;
     // Echoes a voxel must hold to confirm its neighbourhood: at least
     // ps_echo_min_count, and at least ps_echo_min_fraction of the 90th

@@ -1,4 +1,4 @@
-// The four pipeline variants of DESIGN.md §7, as presets of one config field.
+// The four pipeline variants of docs/design.md ("Variants"), as presets of one config field.
 #pragma once
 
 #include <optional>
