@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
     app.add_option("--config", config_path, "mapper YAML config (docs/mapper-config.md)")->required()->check(CLI::ExistingFile);
     app.add_option("--log", log_path, "offline: read this LCM log as fast as possible instead of listening")->check(CLI::ExistingFile);
     app.add_option("--map-out", map_out, "final map file (binary; a .ply is written beside it)");
-    app.add_option("--variant", variant, "fls_only, carve_only, paper or fused (overrides the config's preset)");
+    app.add_option("--variant", variant, variantChoices() + " (overrides the config's preset)");
     app.add_option("--lcm-url", lcm_url, "LCM provider URL (live mode)");
     app.add_option("--status-out", status_out, "write the final status (counts, timing) as JSON here");
     app.add_option("--checkpoint", checkpoint_path,
@@ -216,10 +216,8 @@ int main(int argc, char** argv) {
     try {
         cfg = loadDaemonConfig(config_path);
         if (!variant.empty()) {
-            const auto v = parseVariant(variant);
-            if (!v) throw std::runtime_error("--variant must be fls_only, carve_only, paper or fused");
+            applyVariant(requireVariant(variant, "--variant"), cfg.mapper);
             cfg.variant = variant;
-            applyVariant(*v, cfg.mapper);
         }
         if (!lcm_url.empty()) cfg.lcm_url = lcm_url;
     } catch (const std::exception& e) {

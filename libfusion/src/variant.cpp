@@ -1,5 +1,7 @@
 #include "sonarfusion/variant.hpp"
 
+#include <stdexcept>
+
 namespace sonarfusion {
 
 std::string_view variantName(Variant v) {
@@ -13,10 +15,25 @@ std::string_view variantName(Variant v) {
 }
 
 std::optional<Variant> parseVariant(std::string_view name) {
-    for (Variant v : {Variant::FlsOnly, Variant::CarveOnly, Variant::Paper, Variant::Fused}) {
+    for (Variant v : kVariants) {
         if (variantName(v) == name) return v;
     }
     return std::nullopt;
+}
+
+Variant requireVariant(std::string_view name, std::string_view what) {
+    if (const auto v = parseVariant(name)) return *v;
+    throw std::invalid_argument(std::string(what) + " must be " + variantChoices() + " (not '" + std::string(name) +
+                                "')");
+}
+
+std::string variantChoices() {
+    std::string s;
+    for (std::size_t i = 0; i < kVariants.size(); ++i) {
+        if (i > 0) s += i + 1 == kVariants.size() ? " or " : ", ";
+        s += variantName(kVariants[i]);
+    }
+    return s;
 }
 
 void applyVariant(Variant v, MapperConfig& cfg) {

@@ -10,6 +10,7 @@
 #include "sonarfusion/fls_model.hpp"
 #include "sonarfusion/pose.hpp"
 #include "sonarfusion/ps_model.hpp"
+#include "sonarfusion/voxel_map.hpp"
 
 namespace sonarfusion::test {
 
@@ -19,6 +20,14 @@ inline TimedPose poseAt(int64_t utime, double x, double y, double z, double yaw 
     p.pose.position = Eigen::Vector3d(x, y, z);
     p.pose.yaw = yaw;
     return p;
+}
+
+// The default map (100^3 at 0.1 m) with its origin at (0, 0, 0): voxel i spans
+// [0.1 i, 0.1 (i + 1)) on each axis.
+inline VoxelMap originMap() {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(5.0, 5.0, 5.0));
+    return m;
 }
 
 struct OwnedFrame {

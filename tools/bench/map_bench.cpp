@@ -335,7 +335,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> only;
     app.add_option("--log", log_path, "LCM log written by sf-sim")->required()->check(CLI::ExistingFile);
     app.add_option("--config", config_path, "mapper YAML config")->check(CLI::ExistingFile);
-    app.add_option("--variant", variant, "fls_only, carve_only, paper or fused (default: the config's)");
+    app.add_option("--variant", variant, variantChoices() + " (default: the config's)");
     app.add_option("--reps", reps, "repetitions of each stream; the best time counts")->check(CLI::PositiveNumber);
     app.add_option("--fraction", fraction, "replay this leading fraction of the map-changing messages")
         ->check(CLI::Range(1e-6, 1.0));
@@ -356,10 +356,8 @@ int main(int argc, char** argv) {
     try {
         dcfg = loadDaemonConfig(config_path);
         if (!variant.empty()) {
-            const auto v = parseVariant(variant);
-            if (!v) throw std::runtime_error("--variant must be fls_only, carve_only, paper or fused");
+            applyVariant(requireVariant(variant, "--variant"), dcfg.mapper);
             dcfg.variant = variant;
-            applyVariant(*v, dcfg.mapper);
         }
         log = sfbench::loadScenarioLog(log_path, dcfg);
         rec = sfbench::recordUpdateStream(log, dcfg.mapper);
