@@ -12,7 +12,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="sf-bag", description="ROS 2 bags <-> sonarfusion LCM logs (docs/ros2.md)")
     sub = ap.add_subparsers(dest="cmd", required=True)
-    im = sub.add_parser("import", help="ROS 2 (or ROS 1) bag -> LCM log for sf-mapper --log")
+    im = sub.add_parser("import", help="ROS 2 bag (sqlite3 or MCAP folder) -> LCM log for sf-mapper --log")
     im.add_argument("bag")
     im.add_argument("out_log")
     for k in ("fls", "ps", "nav"):
