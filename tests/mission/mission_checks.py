@@ -4,6 +4,8 @@
   mission_checks.py live    ROOT BUILD SCENARIO OUT   the live mission in a private netns
   mission_checks.py timing  ROOT BUILD SCENARIO OUT BUDGET_US
   mission_checks.py memory  ROOT BUILD SCENARIO OUT TOLERANCE_KB
+  mission_checks.py survey  ROOT BUILD SCENARIO OUT offline|live   a survey mission (issue 13)
+  mission_checks.py survey_memory ROOT BUILD SCENARIO OUT TOLERANCE_KB   survey RSS, 1 vs 4 times longer
 Every check prints what it measured, then fails loudly if a bar is missed.
 """
 import json
@@ -48,6 +50,64 @@ def live(root, build, scenario, out):
     check(bars.returncode == 0, "the mission's evaluation meets the accuracy bars of issue 4")
 
 
+def survey(root, build, scenario, out, how):
+    """tools/mission on a survey scenario; the bars of issue 13."""
+    env = dict(os.environ, SF_BUILD_DIR=build)
+    cmd = [f"{root}/tools/mission", scenario, out, "--no-build", "--survey"] + (["--offline-only"] if how == "offline" else [])
+    run(cmd, env=env, stdout=sys.stdout, stderr=subprocess.STDOUT)
+    report = json.load(open(f"{out}/report.json"))
+    sc = yaml.safe_load(open(scenario))
+    n_true = sum(1 for m in sc["scene"]["meshes"] if m.get("role") == "object")
+    d = report["detection"]
+    check(report.get("mode") == "survey", "report.json is a survey report")
+    check(d["true"] == n_true, f"every object mesh is a true object ({d['true']} of {n_true})")
+    check(d["found"] == d["true"], f"every object found ({d['found']} of {d['true']})")
+    check(d["false"] == 0, f"no false object ({d['false']}, {d['duplicates']} of them duplicates)")
+    for o in report["objects"]:
+        p, r = o["precision"], o["recall_visible"]
+        check(p is not None and p >= 0.8 and r is not None and r >= 0.8,
+              f"{o['name']}: fused precision {p} and visible recall {r} >= 0.8 (map {o['map_id']})")
+    maps = [m["map_id"] for m in report["maps"]]
+    check(maps == list(range(1, len(maps) + 1)), f"map ids 1..n in anchoring order ({maps})")
+    if how == "live":
+        live = report["live"]
+        gaps = live["status"]["seq_gaps"]
+        check(gaps == {"nav": 0, "fls": 0, "ps": 0}, f"no sequence gaps at the daemon (saw {gaps})")
+        check(live["identical_to_offline_sim_log"] is True,
+              f"every live map == offline over the simulator's own log, byte for byte ({live['vs_sim_log']['files']})")
+        check(live["identical_to_offline_fused"] is True,
+              f"every live map == offline over the lcm-logger log, byte for byte ({live['vs_offline']['files']})")
+        check(live["vs_offline"]["maps"] == len(maps), "as many live maps as offline")
+
+
+def survey_repeated(src, dst, times, lines):
+    """The survey with its lawnmower cut to its first `lines` lines, flown `times` times (no tie line)."""
+    sc = yaml.safe_load(open(src))
+    base = os.path.dirname(os.path.abspath(src))
+    for m in sc["scene"]["meshes"]:
+        m["file"] = os.path.join(base, m["file"])
+    mower = dict(sc["trajectory"]["waypoints"][0])
+    mower["points"] = mower["points"][:2 * lines]
+    sc["trajectory"]["waypoints"] = [dict(mower) for _ in range(times)]
+    yaml.safe_dump(sc, open(dst, "w"))
+
+
+def survey_memory(build, scenario, out, tolerance_kb):
+    rss = {}
+    for times in (1, 4):
+        sc = f"{out}/survey_{times}.yaml"
+        survey_repeated(scenario, sc, times, 2)
+        help_text = subprocess.run([f"{build}/apps/mapperd/sf-mapper", "--help"], capture_output=True, text=True).stdout
+        map_dir = f"{out}/survey_{times}_maps" if "--map-dir" in help_text else None
+        s = map_live(build, sc, out, f"survey_{times}", 20, map_dir)
+        rss[times] = s["peak_rss_kb"]
+        print(f"survey x{times}, live daemon: {s['nav_in']} NAV, {s['fls_in']} FLS, {s['ps_in']} PS, "
+              f"peak RSS {rss[times]} kB")
+    check(rss[1] > 0 and rss[4] > 0, "peak RSS measured")
+    check(rss[4] - rss[1] <= tolerance_kb,
+          f"peak RSS does not grow with survey length: x4 {rss[4]} kB vs x1 {rss[1]} kB (tolerance {tolerance_kb} kB)")
+
+
 def scenario_with_passes(src, dst, passes):
     """The reference scenario with its pass list repeated `passes` times, mesh paths made absolute."""
     sc = yaml.safe_load(open(src))
@@ -82,8 +142,9 @@ set -e
 ip link set lo up
 ip route add 239.0.0.0/8 dev lo
 url="udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
+if [ -n "${MAP_DIR:-}" ]; then out_args=(--map-dir "$MAP_DIR"); else out_args=(--map-out "$OUT/$NAME.map"); fi
 "$BUILD/apps/mapperd/sf-mapper" --config "$ROOT/scenarios/mapper.yaml" --lcm-url "$url" \
-    --map-out "$OUT/$NAME.map" --status-out "$OUT/$NAME.json" --quiet & pid=$!
+    "${out_args[@]}" --status-out "$OUT/$NAME.json" --quiet & pid=$!
 sleep 1.5
 nice -n 5 "$BUILD/sim/sf-sim" --scenario "$SCENARIO" --publish --rate "$RATE" --lcm-url "$url" --threads 1 --quiet
 sleep 1.5
@@ -92,9 +153,13 @@ wait $pid
 """
 
 
-def map_live(build, scenario, out, name, rate):
-    """The live daemon in a private network namespace, fed by sf-sim publishing."""
+def map_live(build, scenario, out, name, rate, map_dir=None):
+    """The live daemon in a private network namespace, fed by sf-sim publishing (every finalised
+    map into `map_dir` with sf-mapper --map-dir when given, else its one map into OUT/NAME.map)."""
     env = dict(os.environ, BUILD=build, ROOT=ROOT, OUT=out, NAME=name, SCENARIO=scenario, RATE=str(rate))
+    if map_dir:
+        os.makedirs(map_dir, exist_ok=True)
+        env["MAP_DIR"] = map_dir
     run(["unshare", "-n", "bash", "-c", LIVE_RUN], env=env)
     return json.load(open(f"{out}/{name}.json"))
 
@@ -122,6 +187,10 @@ if __name__ == "__main__":
         timing(BUILD, SCENARIO, OUT, float(sys.argv[6]))
     elif mode == "memory":
         memory(BUILD, SCENARIO, OUT, int(sys.argv[6]))
+    elif mode == "survey":
+        survey(ROOT, BUILD, SCENARIO, OUT, sys.argv[6])
+    elif mode == "survey_memory":
+        survey_memory(BUILD, SCENARIO, OUT, int(sys.argv[6]))
     else:
         sys.exit(f"unknown mode {mode}")
     if failures:
