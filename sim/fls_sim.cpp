@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "parallel.hpp"
+#include "sonarfusion/beam_direction.hpp"
 
 namespace sonarfusion::sim {
 
@@ -44,10 +45,7 @@ FlsSimulator::FlsSimulator(const Scene& scene, const Scenario& s)
             for (int e = 0; e < ne; ++e) {
                 const double elevation =
                     s.fls.elevation_min + (e + 0.5) / ne * (s.fls.elevation_max - s.fls.elevation_min);
-                const double down = s.fls.tilt + elevation;  // Eq. 4 direction
-                directions_.emplace_back(static_cast<float>(std::cos(down) * std::cos(bearing)),
-                                         static_cast<float>(std::cos(down) * std::sin(bearing)),
-                                         static_cast<float>(std::sin(down)));
+                directions_.push_back(beamDirection(s.fls.tilt + elevation, bearing).cast<float>());  // Eq. 4
             }
         }
     }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "sonarfusion/beam_direction.hpp"
+
 namespace sonarfusion::sim {
 
 namespace {
@@ -42,10 +44,7 @@ std::vector<uint8_t> PsSimulator::ping(const Pose& vehicle, double head_angle, i
     dirs.reserve(raysPerPing());
     for (double v : vertical_) {
         const double down = geometry_.tilt + head_angle + v;  // Eq. 11 depression
-        for (double theta : fan_)
-            dirs.push_back(rotation * Eigen::Vector3f(static_cast<float>(std::cos(down) * std::cos(theta)),
-                                                      static_cast<float>(std::cos(down) * std::sin(theta)),
-                                                      static_cast<float>(std::sin(down))));
+        for (double theta : fan_) dirs.push_back(rotation * beamDirection(down, theta).cast<float>());
     }
     std::vector<RayHit> hits(dirs.size());
     scene_.cast(world_from_sensor.translation().cast<float>(), dirs.data(), static_cast<int>(dirs.size()), 0.0f,

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "sonarfusion/beam_direction.hpp"
+
 namespace sonarfusion {
 
 namespace {
@@ -69,10 +71,7 @@ FlsModel::FlsModel(const FlsGeometry& g)
 }
 
 Eigen::Vector3f FlsModel::directionAt(int col, double elevation) const {
-    const double down = tilt_ + elevation;
-    return Eigen::Vector3d(std::cos(down) * std::cos(bearing_[col]), std::cos(down) * std::sin(bearing_[col]),
-                           std::sin(down))
-        .cast<float>();
+    return beamDirection(tilt_ + elevation, bearing_[col]).cast<float>();  // Eq. 4
 }
 
 bool FlsModel::frameMatches(const FlsFrame& f) const {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sonarfusion/beam_direction.hpp"
+
 namespace sonarfusion {
 
 PsPingError validatePing(const PsPing& ping) {
@@ -73,24 +75,14 @@ PsModel::PsModel(const PsGeometry& g) : g_(g), nh_(g.fan_samples) {
     if (!(g.range_max > g.range_min) || g.range_min < 0.0)
         throw std::invalid_argument("PS geometry: need 0 <= range_min < range_max");
     fan_.resize(nh_);
-    cos_fan_.resize(nh_);
-    sin_fan_.resize(nh_);
-    for (int k = 0; k < nh_; ++k) {
+    for (int k = 0; k < nh_; ++k)
         fan_[k] = nh_ == 1 ? 0.5 * (g.fan_min + g.fan_max) : g.fan_min + k * (g.fan_max - g.fan_min) / (nh_ - 1);
-        cos_fan_[k] = std::cos(fan_[k]);
-        sin_fan_[k] = std::sin(fan_[k]);
-    }
 }
 
 Eigen::Vector3d PsModel::direction(double head_angle, int k) const {
-    const double down = g_.tilt + head_angle;  // phi_t2 + phi_p
-    const double c = std::cos(down);
-    return Eigen::Vector3d(c * cos_fan_[k], c * sin_fan_[k], std::sin(down));
+    return beamDirection(g_.tilt + head_angle, fan_[k]);  // Eq. 11: phi_t2 + phi_p, theta_k
 }
 
-Eigen::Vector3d PsModel::centreDirection(double head_angle) const {
-    const double down = g_.tilt + head_angle;
-    return Eigen::Vector3d(std::cos(down), 0.0, std::sin(down));
-}
+Eigen::Vector3d PsModel::centreDirection(double head_angle) const { return beamDirection(g_.tilt + head_angle, 0.0); }
 
 }  // namespace sonarfusion

@@ -53,7 +53,7 @@ public:
 private:
     PsGeometry g_;
     int nh_;
-    std::vector<double> fan_, cos_fan_, sin_fan_;
+    std::vector<double> fan_;  // theta_k (Eq. 10)
 };
 
 }  // namespace sonarfusion
