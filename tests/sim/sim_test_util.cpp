@@ -6,6 +6,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "lcm_output.hpp"
+#include "simulator.hpp"
+
 namespace sonarfusion::sim::test {
 
 TempDir::TempDir() {
@@ -30,6 +33,13 @@ std::string readBytes(const std::string& path) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+std::string simulateToLog(const Scenario& scenario, const std::string& path, int threads) {
+    const Simulator sim(scenario);
+    LogWriter log(path);
+    sim.run(threads, -1, [&](const SequenceOutput& out) { writeSequence(log, scenario.channels, out); });
+    return path;
 }
 
 TriangleMesh flatPlane(double z, double half) {

@@ -26,6 +26,10 @@ private:
 void writeText(const std::string& path, const std::string& text);
 [[nodiscard]] std::string readBytes(const std::string& path);
 
+// Runs the whole scenario on `threads` workers into an LCM log at `path`
+// (as sf-sim --log does); returns path.
+std::string simulateToLog(const Scenario& scenario, const std::string& path, int threads);
+
 // Horizontal square at depth z (NED), normal up, half-size `half` metres.
 [[nodiscard]] TriangleMesh flatPlane(double z, double half = 30.0);
 // Closed axis-aligned box, outward normals.

@@ -51,14 +51,7 @@ protected:
         return loadScenarioFromString(t.yaml(), dir.path());
     }
     std::string simulate(uint64_t seed, int threads, const std::string& name) {
-        const Scenario s = scenario(seed);
-        const Simulator sim(s);
-        const std::string path = dir.file(name);
-        {
-            LogWriter log(path);
-            sim.run(threads, -1, [&](const SequenceOutput& out) { writeSequence(log, s.channels, out); });
-        }
-        return path;
+        return test::simulateToLog(scenario(seed), dir.file(name), threads);
     }
     TempDir dir;
 };

@@ -69,14 +69,7 @@ protected:
         return "";
     }
     std::string simulateToLog(const std::string& text, const std::string& name, int threads = 1) {
-        const Scenario s = load(text);
-        const Simulator sim(s);
-        const std::string path = dir.file(name);
-        {
-            LogWriter log(path);
-            sim.run(threads, -1, [&](const SequenceOutput& out) { writeSequence(log, s.channels, out); });
-        }
-        return path;
+        return test::simulateToLog(load(text), dir.file(name), threads);
     }
     TempDir dir;
 };
