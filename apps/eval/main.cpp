@@ -161,9 +161,14 @@ int main(int argc, char** argv) {
                 writeSurveyReport(json_path, scenario.name, score, maps, navigation);
                 std::cerr << "sf-eval: wrote " << json_path << "\n";
             }
-            if (!figures_dir.empty())
-                for (const auto& p : writeSurveyPointClouds(figures_dir, maps, score))
+            if (!figures_dir.empty()) {
+                for (const auto& p : writeSurveyFigures(figures_dir, scenario.name, truth, scenario.seabed_meshes, maps,
+                                                        base_config.segmentation.occupied_probability))
                     std::cerr << "sf-eval: wrote " << p << "\n";
+                if (!no_ply)
+                    for (const auto& p : writeSurveyPointClouds(figures_dir, maps, score))
+                        std::cerr << "sf-eval: wrote " << p << "\n";
+            }
             return 0;
         }
         std::cerr << "sf-eval: ground truth and visibility for " << scenario.name << " ...\n";

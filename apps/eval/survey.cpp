@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "distance_transform.hpp"
+#include "figures.hpp"
 #include "ground_truth.hpp"
 #include "map_file.hpp"
 #include "sonarfusion/segmentation.hpp"
@@ -509,6 +510,48 @@ std::vector<std::string> writeSurveyPointClouds(const std::string& dir, const st
         const std::string stem = (fs::path(dir) / ("survey_map_" + std::to_string(m.map_id))).string();
         write(stem + "_objects.ply", pred);
         write(stem + "_truth.ply", truth);
+    }
+    return written;
+}
+
+std::vector<std::string> writeSurveyFigures(const std::string& dir, const std::string& scenario,
+                                            const SurveyTruth& truth, const std::vector<std::string>& seabed_meshes,
+                                            const std::vector<SurveyMap>& maps, double occupied_probability) {
+    std::vector<TriangleMesh> seabed;
+    for (const auto& p : seabed_meshes) seabed.push_back(loadMesh(p));
+    std::vector<std::string> written;
+    for (const SurveyMap& m : maps) {
+        const MapFileHeader h = readMapHeader(m.map_path);
+        VoxelMap vm(mapConfigOf(h));
+        loadMap(m.map_path, vm);
+        const GridSpec& g = m.grid;
+        Prediction pred;
+        pred.object.assign(g.size(), 0);
+        pred.occupied.assign(g.size(), 0);
+        for (const PredictedObject& o : m.objects)
+            for (std::size_t v : o.voxels) pred.object[v] = 1;
+        for (std::size_t i = 0; i < g.size() && i < vm.size(); ++i) pred.occupied[i] = vm.occupancy(i) > occupied_probability;
+        SceneTruth scene;  // only what lies in this map
+        scene.name = scenario;
+        GroundTruth gt;
+        gt.grid = g;
+        gt.object.solid.assign(g.size(), 0);
+        gt.object.surface.assign(g.size(), 0);
+        gt.visible.assign(g.size(), 0);
+        for (const TrueInGrid& t : m.truths) {
+            scene.objects.push_back(truth.objects[t.true_index].mesh);
+            for (std::size_t i = 0; i < g.size(); ++i) {
+                gt.object.solid[i] |= t.solid[i];
+                gt.visible[i] |= t.visible[i];
+            }
+        }
+        const Eigen::Vector3d lo = g.origin, hi = gridMax(g);
+        for (const auto& s : seabed) scene.seabed.push_back(cropped(s, lo, hi));
+        gt.seabed = voxeliseMeshes(scene.seabed, g);  // open pieces: crossed cells only, cheap
+        const FigurePanel panel{m.variant.empty() ? "fused" : m.variant, &vm, &pred, &gt};
+        for (auto& p : writeFigures((fs::path(dir) / ("map_" + std::to_string(m.map_id))).string(),
+                                    scenario + " map " + std::to_string(m.map_id), scene, {panel}))
+            written.push_back(std::move(p));
     }
     return written;
 }

@@ -149,6 +149,13 @@ void writeSurveyReport(const std::string& path, const std::string& scenario, con
 // surface blue). ASCII PLY, world NED. Returns the paths.
 std::vector<std::string> writeSurveyPointClouds(const std::string& dir, const std::vector<SurveyMap>& maps,
                                                 const SurveyScore& score);
+// sf-eval --figures in survey mode, per map: DIR/map_<k>/eval_<variant>_{side,top}[_objects].png,
+// the projections of figures.hpp (occupied voxels with p above `occupied_probability`, and the
+// published objects' voxels), windowed on the true objects in that map's grid (the whole map when
+// none), their outlines red, the seabed cropped to the map grey. Returns the paths.
+std::vector<std::string> writeSurveyFigures(const std::string& dir, const std::string& scenario,
+                                            const SurveyTruth& truth, const std::vector<std::string>& seabed_meshes,
+                                            const std::vector<SurveyMap>& maps, double occupied_probability);
 // The per-object table printed on stdout.
 [[nodiscard]] std::string surveyTable(const SurveyScore& score);
 
