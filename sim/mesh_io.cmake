@@ -3,6 +3,8 @@
 # sf_scenario and by the evaluator's sf_eval; included from sim/CMakeLists.txt,
 # or from apps/eval/CMakeLists.txt when the simulator is not built.
 if(NOT TARGET sf_mesh_io)
+  # The sanitizer build is Debug: CGAL's notice that Release is faster does not concern one file of mesh I/O.
+  set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE CACHE INTERNAL "")
   find_package(CGAL REQUIRED)
   add_library(sf_mesh_io STATIC ${CMAKE_CURRENT_LIST_DIR}/mesh_io.cpp)
   target_include_directories(sf_mesh_io PUBLIC ${CMAKE_CURRENT_LIST_DIR})
