@@ -1,6 +1,7 @@
-// The only part of sf-eval that knows the simulator's scenario format: turns
-// a scenario file into the evaluator's plain inputs (mesh paths, sensor poses
-// and fields of view, along-track axis).
+// The only part of sf-eval that knows the scenario format (read by the shared
+// config reader, config/scenario.hpp): turns a scenario file into the
+// evaluator's plain inputs (mesh paths, sensor poses and fields of view,
+// along-track axis).
 #pragma once
 
 #include <optional>
@@ -25,7 +26,8 @@ struct EvalScenario {
     std::optional<double> declared_face_angle_deg;
 };
 
-// Throws (the scenario library's ScenarioError, std::runtime_error) on bad input.
+// Throws on bad input: sim::ScenarioError naming the field (the scenario is read
+// by the shared config reader, sf_config_yaml's loadScenario), std::runtime_error.
 [[nodiscard]] EvalScenario loadEvalScenario(const std::string& path);
 
 }  // namespace sonarfusion::eval

@@ -25,83 +25,10 @@ std::string_view outcomeName(Outcome o) {
     return "unknown";
 }
 
+// One validator: each struct's own validate() (config.hpp, src/config.cpp).
 std::string validateConfig(const MapperConfig& cfg) {
-    const UpdateConfig& u = cfg.update;
-    auto open01 = [](double p) { return p > 0.0 && p < 1.0; };
-    if (!open01(u.p_occupied) || u.p_occupied <= 0.5) return "update.p_occupied must be in (0.5, 1)";
-    if (!open01(u.p_free) || u.p_free >= 0.5) return "update.p_free must be in (0, 0.5)";
-    if (!(u.alpha_fls > 0.0) || !std::isfinite(u.alpha_fls)) return "update.alpha_fls must be > 0";
-    if (!(u.alpha_ps >= 0.0) || !std::isfinite(u.alpha_ps)) return "update.alpha_ps must be >= 0";
-    if (u.fls_intensity_threshold < 0 || u.fls_intensity_threshold > 255)
-        return "update.fls_intensity_threshold must be in 0..255";
-    const PsSelectionConfig& s = cfg.ps_selection;
-    if (!(s.group_threshold >= 0.0 && s.group_threshold < 1.0)) return "ps_selection.group_threshold must be in [0, 1)";
-    if (cfg.max_nav_gap_us <= 0) return "max_nav_gap_us must be > 0";
-    // The issue-9 rules: sizes they allocate from, and shares.
-    if (!(u.fls_arc_spacing_voxels == 0.0 || (u.fls_arc_spacing_voxels >= 0.25 && u.fls_arc_spacing_voxels <= 100.0)))
-        return "update.fls_arc_spacing_voxels must be 0 (N_v samples) or in [0.25, 100]";
-    const SegmentationConfig& g = cfg.segmentation;
-    if (!(g.ps_echo_min_fraction >= 0.0 && g.ps_echo_min_fraction <= 1.0))
-        return "segmentation.ps_echo_min_fraction must be in [0, 1]";
-    if (g.ps_echo_min_count < 1) return "segmentation.ps_echo_min_count must be >= 1";
-    if (g.fls_only_extension < 0 || g.fls_only_extension > 255)
-        return "segmentation.fls_only_extension must be in 0..255";
-    // Geometry, sizes and capacities: every number something is allocated from
-    // or divided by (issue 10: inf ranges, NaN minimum range, 0 bins were taken).
-    auto finite = [](double v) { return std::isfinite(v); };
-    auto angle = [&](double a) { return finite(a) && std::fabs(a) <= M_PI; };
-    const FlsGeometry& f = cfg.fls;
-    if (!angle(f.fov_horizontal) || f.fov_horizontal <= 0.0) return "fls.fov_horizontal_deg must be in (0, 180]";
-    if (!angle(f.elevation_min) || !angle(f.elevation_max) || f.elevation_max <= f.elevation_min)
-        return "fls.elevation_min_deg must be below fls.elevation_max_deg, both finite";
-    if (!angle(f.tilt)) return "fls.tilt_deg must be finite, |tilt| <= 180";
-    if (!finite(f.range_min) || !finite(f.range_max) || f.range_min < 0.0 || f.range_max <= f.range_min ||
-        f.range_max > 1000.0)
-        return "fls.range_min/range_max must satisfy 0 <= range_min < range_max <= 1000 m";
-    if (f.beams < 1 || f.beams > kMaxFlsBeams) return "fls.beams must be in 1..4096";
-    if (f.rows < 2 || f.rows > kMaxFlsRows) return "fls.rows must be in 2..16384";
-    if (f.elevation_samples < 1 || f.elevation_samples > 1024) return "fls.elevation_samples must be in 1..1024";
-    const PsGeometry& p = cfg.ps;
-    if (!angle(p.fan_min) || !angle(p.fan_max) || p.fan_max <= p.fan_min)
-        return "ps.fan_min_deg must be below ps.fan_max_deg, both finite";
-    if (!angle(p.head_min) || !angle(p.head_max) || p.head_max < p.head_min)
-        return "ps.head_min_deg must not be above ps.head_max_deg, both finite";
-    if (!angle(p.tilt)) return "ps.tilt_deg must be finite, |tilt| <= 180";
-    if (!finite(p.range_min) || !finite(p.range_max) || p.range_min < 0.0 || p.range_max <= p.range_min ||
-        p.range_max > 1000.0)
-        return "ps.range_min/range_max must satisfy 0 <= range_min < range_max <= 1000 m";
-    if (p.bins < 2 || p.bins > kMaxPsBins) return "ps.bins must be in 2..65536";
-    if (p.fan_samples < 1 || p.fan_samples > 1024) return "ps.fan_samples must be in 1..1024";
-    const MapConfig& m = cfg.map;
-    if (m.nx < 1 || m.ny < 1 || m.nz < 1 || m.nx > kMaxMapCells || m.ny > kMaxMapCells || m.nz > kMaxMapCells)
-        return "map.nx/ny/nz must be in 1..4096";
-    if (!finite(m.resolution) || m.resolution <= 0.0) return "map.resolution must be a positive number";
-    if (!(m.clamp_min < 0.0f && m.clamp_max > 0.0f) || !std::isfinite(m.clamp_min) || !std::isfinite(m.clamp_max))
-        return "map.clamp_min must be < 0 < map.clamp_max";
-    if (!(s.min_range >= 0.0) || !finite(s.min_range)) return "ps_selection.min_range must be finite and >= 0";
-    if (s.min_peak_intensity < 0 || s.min_peak_intensity > 255) return "ps_selection.min_peak_intensity must be in 0..255";
-    const DetectorConfig& d = cfg.detector;
-    if (!(d.seabed_radius > 0.0) || !finite(d.seabed_radius)) return "detector.seabed_radius must be > 0";
-    if (d.seabed_capacity < 3 || d.seabed_capacity > 1000000) return "detector.seabed_capacity must be in 3..1000000";
-    if (d.min_seabed_echoes < 3 || d.min_seabed_echoes > d.seabed_capacity)
-        return "detector.min_seabed_echoes must be in 3..seabed_capacity";
-    if (!(d.min_rise >= 0.0) || !finite(d.min_rise) || !(d.rise_sigmas >= 0.0) || !finite(d.rise_sigmas))
-        return "detector.min_rise and detector.rise_sigmas must be finite and >= 0";
-    if (!(d.cluster_radius > 0.0) || !finite(d.cluster_radius)) return "detector.cluster_radius must be > 0";
-    if (d.risen_capacity < 1 || d.risen_capacity > 1000000) return "detector.risen_capacity must be in 1..1000000";
-    if (d.min_risen_echoes < 1 || d.min_risen_echoes > d.risen_capacity)
-        return "detector.min_risen_echoes must be in 1..risen_capacity";
-    if (!(g.occupied_probability > 0.0 && g.occupied_probability < 1.0))
-        return "segmentation.occupied_probability must be in (0, 1)";
-    if (!(g.min_object_height >= 0.0) || !finite(g.min_object_height) || !(g.baseline_window > 0.0) ||
-        !finite(g.baseline_window))
-        return "segmentation.min_object_height must be >= 0 and segmentation.baseline_window > 0";
-    if (g.max_objects < 1 || g.max_objects > 65535) return "segmentation.max_objects must be in 1..65535";
-    if (g.min_object_voxels < 1) return "segmentation.min_object_voxels must be >= 1";
-    if (cfg.nav_buffer_capacity < 2 || cfg.nav_buffer_capacity > 1000000) return "nav.buffer_capacity must be in 2..1000000";
-    if (cfg.nav_timeline_confirm < 1 || cfg.nav_timeline_confirm > kMaxNavTimelineConfirm)
-        return "nav.timeline_confirm must be in 1..64";
-    return {};
+    const std::optional<ConfigIssue> issue = cfg.validate();
+    return issue ? issue->message() : std::string();
 }
 
 std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,21 @@ constexpr double kDegToRad = M_PI / 180.0;
 // the validators and the daemon's message guard).
 constexpr int kMaxFlsBeams = 4096, kMaxFlsRows = 16384, kMaxPsBins = 65536, kMaxMapCells = 4096;
 constexpr int kMaxNavTimelineConfirm = 64;
+
+// A value a config struct cannot take: its key as the YAML files spell it,
+// relative to the struct's own block ("nx" in map:, "range_max" in fls:;
+// MapperConfig::validate() gives the whole key, "map.nx"), and why. Each
+// struct's validate() returns none when every value is fine. No I/O: the
+// loaders add the file's name (docs/mapper-config.md).
+struct ConfigIssue {
+    std::string key;
+    std::string reason;  // e.g. "must be in 1..4096"
+    [[nodiscard]] std::string message() const { return key + ": " + reason; }
+    // The same issue one block further out: in("map") turns "nx" into "map.nx".
+    [[nodiscard]] ConfigIssue in(const std::string& block) const {
+        return {key.empty() ? block : block + "." + key, reason};
+    }
+};
 
 // Forward-looking sonar (DIDSON, paper Table 1).
 struct FlsGeometry {
@@ -30,6 +46,7 @@ struct FlsGeometry {
     // uniform paper geometry of Eqs. 1-2 is used.
     std::vector<double> beam_bearing;  // rad per column, size == beams
     std::vector<double> row_range;     // m per row (row 0 far), size == rows
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `fls` block
 };
 
 // Profiling sonar (Imagenex 881A, paper Table 2).
@@ -43,6 +60,7 @@ struct PsGeometry {
     double range_max = 10.0;             // m, range of the last bin
     int bins = 500;                      // range bins per ping (2 cm)
     int fan_samples = 21;                // N_h
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `ps` block
 };
 
 // Where a sensor sits on the vehicle (body frame FRD). The paper mounts both at
@@ -50,6 +68,7 @@ struct PsGeometry {
 struct Mounting {
     double x = 0.0, y = 0.0, z = 0.0;  // m
     double roll = 0.0, yaw = 0.0;      // rad, extra rotation besides the tilt
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `mount` block
 };
 
 struct MapConfig {
@@ -62,6 +81,7 @@ struct MapConfig {
     // depend on which echoes declared the object (issue 9: a 4 cm shift of the
     // anchor moved a 0.6 m mine's visible recall between 0.76 and 1.0).
     bool snap_to_world_lattice = true;
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `map` block
 };
 
 // Which of the paper's stages run and how evidence is counted. The four
@@ -100,6 +120,7 @@ struct UpdateConfig {
     // PS-only reconstruction: the end voxel of each PS ray gets an occupied
     // update (delta L_o) instead of being left alone. Only the carve_only variant.
     bool ps_endpoint_hits = true;
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `update` block
 };
 
 // Closest-group range selection of the PS (paper 2.3).
@@ -117,6 +138,7 @@ struct PsSelectionConfig {
     // the seabed summed across all of it, and is still the nearest surface.
     // False: tau alone (the paper).
     bool weak_echoes_group = true;
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `ps_selection` block
 };
 
 // PS rising-edge object detector that anchors the map (paper 2.1). The seabed
@@ -135,6 +157,7 @@ struct DetectorConfig {
     double cluster_radius = 0.5;     // m: risen echoes this close (horizontally) form one cluster
     int min_risen_echoes = 5;        // risen echoes in one cluster that declare an object
     int risen_capacity = 64;         // risen echoes kept (ring, allocated once)
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `detector` block
 };
 
 // Map completion and object segmentation (paper 2.4).
@@ -182,6 +205,7 @@ struct SegmentationConfig {
     // speed, so the rule does not assume one). Fraction 0: the count alone.
     int ps_echo_min_count = 2;
     double ps_echo_min_fraction = 0.3;
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `segmentation` block
 };
 
 struct MapperConfig {
@@ -201,6 +225,8 @@ struct MapperConfig {
     // continuous with the one before, confirm it; until then it is a glitch
     // and the old timeline stays (issue 10, findings 3 and 4).
     int nav_timeline_confirm = 3;
+    // Every block above, keys in full ("map.nx", "nav.max_gap_us").
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;
 };
 
 }  // namespace sonarfusion

@@ -116,8 +116,9 @@ private:
     MapperCounters counters_;
 };
 
-// Checks the numbers that the equations cannot take (probabilities outside
-// (0, 1), non-positive weights); returns an empty string when the config is fine.
+// MapperConfig::validate() as one message naming the key ("map.nx: must be in
+// 1..4096"); an empty string when the config is fine. The constructor throws
+// std::invalid_argument with the same message.
 [[nodiscard]] std::string validateConfig(const MapperConfig& cfg);
 // What a Mapper built from `cfg` allocates, in bytes (an upper estimate), so a
 // program can refuse a config that would not fit before allocating anything.

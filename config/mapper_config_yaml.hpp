@@ -1,9 +1,12 @@
-// Mapper configuration from YAML (docs/mapper-config.md). Unknown keys are an
-// error naming the key, so a typo never silently falls back to a default.
+// Mapper configuration from YAML (docs/mapper-config.md), part of the shared
+// config reader (sf_config_yaml; its sensor blocks are read as the scenario's
+// are, config_yaml.hpp). Unknown keys are an error naming the key, so a typo
+// never silently falls back to a default.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "sonarfusion/config.hpp"
@@ -29,16 +32,20 @@ struct DaemonConfig {
     int ps_pending_slots = 64;
     double memory_budget_mb = 2048.0;  // refuse at start-up a config that would need more
     double checkpoint_period_s = 10.0; // with --checkpoint: data seconds between checkpoints (0: only at exit)
+    // mapper.validate(), then the daemon's own keys ("daemon.queue_capacity",
+    // "channels.fls") and the memory budget (config.hpp's ConfigIssue).
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;
 };
 
-// Every daemon setting a file can give, checked; "" when fine, else a message
-// naming the key. loadDaemonConfig calls it (and libfusion's validateConfig).
+// d.validate() as one message naming the key ("channels.fls: must differ from
+// channels.nav"); "" when fine.
 [[nodiscard]] std::string validateDaemonConfig(const DaemonConfig& d);
 // Bytes the daemon allocates at start-up for this config (libfusion's estimate,
 // the pending slots, the MAP snapshot and the checkpoint buffer).
 [[nodiscard]] std::size_t daemonMemoryBytes(const DaemonConfig& d);
 
-// Throws std::runtime_error naming the file and the offending key.
+// Throws std::runtime_error naming the file and the offending key: "FILE: map.nx:
+// must be in 1..4096" (a value), "FILE: fls.range_maxx: unknown key".
 DaemonConfig loadDaemonConfig(const std::string& path);
 
 }  // namespace sonarfusion

@@ -1,10 +1,14 @@
 // A simulation scenario as loaded from YAML (docs/scenario-format.md): scene
-// meshes, sensor geometry and mounting, trajectory, noise and seed. The
-// simulator, the mapper daemon and the evaluator all read this one struct.
+// meshes, sensor geometry and mounting, trajectory, noise and seed. Part of
+// the shared config reader (sf_config_yaml): the simulator and the evaluator
+// read scenarios only through loadScenario, and its sensor blocks through the
+// same functions as the mapper config (config_yaml.hpp). Each struct checks
+// its own values (validate(), keys relative to its block, as in config.hpp).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,7 +18,7 @@
 namespace sonarfusion::sim {
 
 // Thrown for any bad scenario input; what() names the offending field,
-// e.g. "scenario field 'fls.range_max': must be > range_min".
+// e.g. "scenario field 'fls.range_max': must be above range_min and <= 1000 m".
 class ScenarioError : public std::runtime_error {
 public:
     ScenarioError(const std::string& field, const std::string& problem)
@@ -32,12 +36,14 @@ struct MeshSpec {
     MeshRole role = MeshRole::Object;
     double impedance = 8.0;     // MRayl (acoustic impedance Z of the material)
     double face_angle_deg = 0;  // true end-face angle alpha of an object, 0 when not given
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `scene.meshes[i]` block
 };
 
 struct SceneSpec {
     std::vector<MeshSpec> meshes;
     double water_impedance = 1.5;  // MRayl, Z0
     double seabed_depth = 20.0;    // m (NED z), turns pass altitudes into depths
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `scene` block
 };
 
 // Simulator-only parameters of the FLS beyond the mapper's FlsGeometry.
@@ -50,6 +56,7 @@ struct FlsSimParams {
     double source_level = 1.0;        // I0
     double sound_speed = 1500.0;      // m/s (informational, in the message)
     double frequency_hz = 1.8e6;
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `fls` block
 };
 
 struct PsSimParams {
@@ -61,6 +68,7 @@ struct PsSimParams {
     double gain_db = 0.0;
     double tvg_db_per_decade = 40.0;
     double source_level = 1.0;
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `ps` block
 };
 
 struct NoiseSpec {
@@ -71,6 +79,7 @@ struct NoiseSpec {
     // Draw the noise from the sensor pose (and PS head angle) instead of the
     // sequence number: a vehicle holding still then sees the same speckle.
     bool follows_pose = false;
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `noise` block
 };
 
 struct StraightPass {
@@ -80,11 +89,13 @@ struct StraightPass {
     int sequences = 1600;
     double start_offset = 6.0;  // m before the centre point, along the heading
     double centre_x = 0.0, centre_y = 0.0;  // NED point the pass flies over
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `trajectory.passes[i]` block
 };
 
 struct WaypointPath {
     double step = 0.005;  // m per sequence along the polyline
     std::vector<std::array<double, 3>> points;  // NED x, y, z
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `trajectory.waypoints[i]` block
 };
 
 struct TrajectorySpec {
@@ -94,6 +105,7 @@ struct TrajectorySpec {
     int fls_every = 4;                 // an FLS frame every Nth sequence
     std::vector<StraightPass> passes;
     std::vector<WaypointPath> waypoints;  // flown after the passes
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `trajectory` block
 };
 
 // What NAV reports against the true pose (docs/navigation.md). All zero: NAV is
@@ -110,6 +122,7 @@ struct NavigationSpec {
         return position_noise != 0.0 || depth_noise != 0.0 || drift_fraction != 0.0 || heading_bias != 0.0 ||
                heading_noise != 0.0 || attitude_noise != 0.0 || latency != 0.0;
     }
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `navigation` block
 };
 
 // The true vehicle motion about the planned path: a sinusoid per axis, one
@@ -123,6 +136,7 @@ struct MotionSpec {
     [[nodiscard]] bool enabled() const {
         return roll_amplitude != 0.0 || pitch_amplitude != 0.0 || yaw_amplitude != 0.0 || heave_amplitude != 0.0;
     }
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `motion` block
 };
 
 struct Channels {
@@ -130,6 +144,7 @@ struct Channels {
     // The true pose (nav_state_t), published only when the scenario's
     // navigation or motion block is not all zero.
     std::string nav_truth = "NAV_TRUTH";
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `channels` block
 };
 
 struct Scenario {
@@ -154,6 +169,8 @@ struct Scenario {
     // NAV differs from the truth, or the vehicle moves off its planned attitude
     // and depth: the simulator then also publishes the truth (channels.nav_truth).
     [[nodiscard]] bool publishesTruth() const { return navigation.enabled() || motion.enabled(); }
+    // Every block, keys in full ("fls.rays_azimuth"); cross-block rules (channels.nav_truth).
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;
 };
 
 // Loads and validates a scenario. Mesh paths are resolved relative to the
