@@ -6,6 +6,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
 #include "lcm_output.hpp"
 #include "simulator.hpp"
 
@@ -33,6 +36,15 @@ std::string readBytes(const std::string& path) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+std::vector<LogEvent> readLog(const std::string& path) {
+    lcm::LogFile log(path, "r");
+    EXPECT_TRUE(log.good()) << path;
+    std::vector<LogEvent> events;
+    while (const lcm::LogEvent* e = log.readNextEvent())
+        events.push_back({e->channel, e->timestamp, std::string(static_cast<const char*>(e->data), e->datalen)});
+    return events;
 }
 
 std::string simulateToLog(const Scenario& scenario, const std::string& path, int threads) {

@@ -2,7 +2,9 @@
 // small scenario written as YAML (so the tests go through the real loader).
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "mesh_io.hpp"
 #include "scenario.hpp"
@@ -25,6 +27,15 @@ private:
 
 void writeText(const std::string& path, const std::string& text);
 [[nodiscard]] std::string readBytes(const std::string& path);
+
+// One event of an LCM log, as the tests read it back.
+struct LogEvent {
+    std::string channel;
+    int64_t timestamp;
+    std::string data;
+};
+// Every event of the log at `path` (a failed open is a test failure).
+[[nodiscard]] std::vector<LogEvent> readLog(const std::string& path);
 
 // Runs the whole scenario on `threads` workers into an LCM log at `path`
 // (as sf-sim --log does); returns path.

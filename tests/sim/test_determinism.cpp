@@ -13,21 +13,8 @@ namespace {
 
 using test::TempDir;
 using test::TinyScenario;
-
-struct Event {
-    std::string channel;
-    int64_t timestamp;
-    std::string data;
-};
-
-std::vector<Event> readLog(const std::string& path) {
-    lcm::LogFile log(path, "r");
-    EXPECT_TRUE(log.good());
-    std::vector<Event> events;
-    while (const lcm::LogEvent* e = log.readNextEvent())
-        events.push_back({e->channel, e->timestamp, std::string(static_cast<const char*>(e->data), e->datalen)});
-    return events;
-}
+using Event = test::LogEvent;
+using test::readLog;
 
 template <class Message>
 Message decode(const Event& e) {

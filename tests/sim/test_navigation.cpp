@@ -18,20 +18,8 @@ namespace {
 
 using test::TempDir;
 using test::TinyScenario;
-
-struct Event {
-    std::string channel;
-    std::string data;
-};
-
-std::vector<Event> readLog(const std::string& path) {
-    lcm::LogFile log(path, "r");
-    EXPECT_TRUE(log.good());
-    std::vector<Event> events;
-    while (const lcm::LogEvent* e = log.readNextEvent())
-        events.push_back({e->channel, std::string(static_cast<const char*>(e->data), e->datalen)});
-    return events;
-}
+using Event = test::LogEvent;
+using test::readLog;
 
 nav_state_t decodeNav(const std::string& bytes) {
     nav_state_t m{};
