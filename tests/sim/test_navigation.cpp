@@ -16,10 +16,9 @@
 namespace sonarfusion::sim {
 namespace {
 
+using test::readLog;
 using test::TempDir;
 using test::TinyScenario;
-using Event = test::LogEvent;
-using test::readLog;
 
 nav_state_t decodeNav(const std::string& bytes) {
     nav_state_t m{};
@@ -125,7 +124,7 @@ TEST_F(NavigationTest, ZeroBlocksGiveTheLogOfAScenarioWithoutThem) {
     const std::string b = test::readBytes(simulateToLog(yaml(zero), "zero.lcmlog", 2));
     ASSERT_GT(a.size(), 10000u);
     EXPECT_TRUE(a == b) << "all-zero navigation/motion blocks changed the log";
-    for (const Event& e : readLog(dir.file("zero.lcmlog"))) EXPECT_NE(e.channel, "NAV_TRUTH");
+    for (const test::LogEvent& e : readLog(dir.file("zero.lcmlog"))) EXPECT_NE(e.channel, "NAV_TRUTH");
 }
 
 TEST_F(NavigationTest, NavErrorsChangeNavOnlyAndTheTruthIsPublished) {
@@ -137,10 +136,10 @@ TEST_F(NavigationTest, NavErrorsChangeNavOnlyAndTheTruthIsPublished) {
         yaml("navigation: {position_noise: 0.02, drift_fraction: 0.01, heading_bias_deg: 0.5, heading_noise_deg: 0.2,"
              " attitude_noise_deg: 0.1, depth_noise: 0.01}\n"),
         "noisy.lcmlog"));
-    std::vector<Event> clean_nav, clean_sonar, noisy_nav, noisy_truth, noisy_sonar;
-    for (const Event& e : clean) (e.channel == "NAV" ? clean_nav : clean_sonar).push_back(e);
+    std::vector<test::LogEvent> clean_nav, clean_sonar, noisy_nav, noisy_truth, noisy_sonar;
+    for (const test::LogEvent& e : clean) (e.channel == "NAV" ? clean_nav : clean_sonar).push_back(e);
     std::vector<std::string> order;
-    for (const Event& e : noisy) {
+    for (const test::LogEvent& e : noisy) {
         if (order.size() < 4) order.push_back(e.channel);
         if (e.channel == "NAV") noisy_nav.push_back(e);
         else if (e.channel == "NAV_TRUTH") noisy_truth.push_back(e);
