@@ -16,9 +16,7 @@
 #include <memory>
 
 #include "figures.hpp"
-#ifdef SF_EVAL_MAPPER_CONFIG
-#include "mapper_config_yaml.hpp"
-#endif
+#include "mapper_config_yaml.hpp"  // the reader sf-mapper uses (sf_config_yaml)
 #include "ground_truth.hpp"
 #include "map_file.hpp"
 #include "map_scoring.hpp"
@@ -82,11 +80,9 @@ int main(int argc, char** argv) {
     EndFaceSelection face;
     app.add_option("--scenario", scenario_path, "scenario YAML (meshes, trajectory, sensors)")->required()->check(CLI::ExistingFile);
     app.add_option("--map", map_args, "map file, or VARIANT=PATH (repeatable; variant defaults to the file's)");
-#ifdef SF_EVAL_MAPPER_CONFIG
     app.add_option("--config", config_path,
                    "the sf-mapper YAML the maps were made with: segment them with its settings (default: built-in defaults)")
         ->check(CLI::ExistingFile);
-#endif
 #ifdef SF_EVAL_NAV_LOG
     app.add_option("--log", log_path,
                    "the run's LCM log: report how far NAV was from NAV_TRUTH (channels from the scenario)")
@@ -119,9 +115,7 @@ int main(int argc, char** argv) {
             throw std::runtime_error("--map-dir (a survey) does not mix with --map or --maps-dir");
 
         MapperConfig base_config;  // what sf-mapper uses without a config file
-#ifdef SF_EVAL_MAPPER_CONFIG
         if (!config_path.empty()) base_config = loadDaemonConfig(config_path).mapper;
-#endif
         const EvalScenario scenario = loadEvalScenario(scenario_path);
         NavigationReport navigation;
 #ifdef SF_EVAL_NAV_LOG
