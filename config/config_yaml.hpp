@@ -39,9 +39,7 @@ public:
     // path: the block's name in the file ("fls", "trajectory.passes[0]"; "" for the top level).
     Fields(const YAML::Node& node, std::string path);
 
-    [[nodiscard]] std::string field(const std::string& key) const {
-        return path_.empty() ? key : path_ + "." + key;
-    }
+    [[nodiscard]] std::string field(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
     [[nodiscard]] bool has(const std::string& key) const { return node_ && node_.IsMap() && node_[key]; }
     // Marks the key used; an undefined node when absent.
     YAML::Node child(const std::string& key);

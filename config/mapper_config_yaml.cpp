@@ -164,7 +164,8 @@ std::optional<ConfigIssue> DaemonConfig::validate() const {
     if (queue_capacity < 1 || queue_capacity > 100000) return bad("daemon.queue_capacity", "must be in 1..100000");
     if (fls_pending_slots < 2 || fls_pending_slots > 4096) return bad("daemon.fls_pending_slots", "must be in 2..4096");
     if (ps_pending_slots < 2 || ps_pending_slots > 65536) return bad("daemon.ps_pending_slots", "must be in 2..65536");
-    if (!std::isfinite(memory_budget_mb) || memory_budget_mb <= 0.0) return bad("daemon.memory_budget_mb", "must be > 0");
+    if (!std::isfinite(memory_budget_mb) || memory_budget_mb <= 0.0)
+        return bad("daemon.memory_budget_mb", "must be > 0");
     const std::pair<const char*, const std::string*> channels[] = {
         {"nav", &nav_channel},       {"fls", &fls_channel},         {"ps", &ps_channel},
         {"status", &status_channel}, {"objects", &objects_channel}, {"map", &map_channel}};
@@ -174,7 +175,8 @@ std::optional<ConfigIssue> DaemonConfig::validate() const {
         if (name->empty() || name->size() > 63) return bad(std::string("channels.") + key, "must be 1..63 characters");
         for (std::size_t j = 0; j < i; ++j)
             if (*name == *channels[j].second)
-                return bad(std::string("channels.") + key, std::string("must differ from channels.") + channels[j].first);
+                return bad(std::string("channels.") + key,
+                           std::string("must differ from channels.") + channels[j].first);
     }
     const double need_mb = static_cast<double>(daemonMemoryBytes(*this)) / (1024.0 * 1024.0);
     if (need_mb > memory_budget_mb)

@@ -79,9 +79,12 @@ void readScene(const YAML::Node& node, const fs::path& base_dir, Scenario& s) {
         spec.impedance = m.get("impedance", role == "seabed" ? 3.0 : 8.0);
         m.read("face_angle_deg", spec.face_angle_deg);
         m.rejectUnknownKeys();
-        if (role == "seabed") spec.role = MeshRole::Seabed;
-        else if (role == "object") spec.role = MeshRole::Object;
-        else throw config_yaml::KeyError(path + ".role", "must be 'seabed' or 'object', not '" + role + "'");
+        if (role == "seabed")
+            spec.role = MeshRole::Seabed;
+        else if (role == "object")
+            spec.role = MeshRole::Object;
+        else
+            throw config_yaml::KeyError(path + ".role", "must be 'seabed' or 'object', not '" + role + "'");
         requireValid(spec, path);
         const fs::path resolved = fs::path(file).is_absolute() ? fs::path(file) : base_dir / file;
         if (!fs::is_regular_file(resolved))
@@ -312,20 +315,25 @@ Check MotionSpec::validate() const {
 }
 
 Check Channels::validate() const {
-    for (const auto& [key, name] : {std::pair{"nav", &nav}, std::pair{"fls", &fls}, std::pair{"ps", &ps},
-                                    std::pair{"nav_truth", &nav_truth}})
+    for (const auto& [key, name] :
+         {std::pair{"nav", &nav}, std::pair{"fls", &fls}, std::pair{"ps", &ps}, std::pair{"nav_truth", &nav_truth}})
         if (name->empty()) return bad(key, "must not be empty");
     return std::nullopt;
 }
 
 Check Scenario::validate() const {
-    const std::pair<const char*, Check> blocks[] = {
-        {"scene", scene.validate()},         {"fls", fls.validate()},
-        {"fls", fls_sim.validate()},         {"fls.mount", fls_mount.validate()},
-        {"ps", ps.validate()},               {"ps", ps_sim.validate()},
-        {"ps.mount", ps_mount.validate()},   {"noise", noise.validate()},
-        {"navigation", navigation.validate()}, {"motion", motion.validate()},
-        {"trajectory", trajectory.validate()}, {"channels", channels.validate()}};
+    const std::pair<const char*, Check> blocks[] = {{"scene", scene.validate()},
+                                                    {"fls", fls.validate()},
+                                                    {"fls", fls_sim.validate()},
+                                                    {"fls.mount", fls_mount.validate()},
+                                                    {"ps", ps.validate()},
+                                                    {"ps", ps_sim.validate()},
+                                                    {"ps.mount", ps_mount.validate()},
+                                                    {"noise", noise.validate()},
+                                                    {"navigation", navigation.validate()},
+                                                    {"motion", motion.validate()},
+                                                    {"trajectory", trajectory.validate()},
+                                                    {"channels", channels.validate()}};
     for (const auto& [block, issue] : blocks)
         if (issue) return issue->in(block);
     if (publishesTruth() &&

@@ -95,8 +95,8 @@ protected:
     CliRun mapper(const std::string& config) const {
         const std::string err = (dir_ / "output.txt").string();
         const std::string cmd = std::string(SF_MAPPER_EXE) + " --quiet --config " + config + " --log " +
-                                (dir_ / "empty.lcmlog").string() + " --map-out " + (dir_ / "x.map").string() +
-                                " > " + err + " 2>&1";  // spdlog writes to stdout
+                                (dir_ / "empty.lcmlog").string() + " --map-out " + (dir_ / "x.map").string() + " > " +
+                                err + " 2>&1";  // spdlog writes to stdout
         const int status = std::system(cmd.c_str());
         return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(err)};
     }
@@ -132,10 +132,11 @@ TEST(MapperConfigCliControl, GoodFilesExitZero) {
         const std::string path = (dir / "ok.yaml").string();
         std::ofstream(path) << yaml << "\n";
         const std::string cmd = std::string(SF_MAPPER_EXE) + " --quiet --config " + path + " --log " +
-                                (dir / "empty.lcmlog").string() + " --map-out " + (dir / "x.map").string() +
-                                " 2> " + (dir / "err.txt").string();
+                                (dir / "empty.lcmlog").string() + " --map-out " + (dir / "x.map").string() + " 2> " +
+                                (dir / "err.txt").string();
         const int status = std::system(cmd.c_str());
-        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << yaml << "\n" << readFile((dir / "err.txt").string());
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << yaml << "\n"
+                                                                   << readFile((dir / "err.txt").string());
     }
     // The reference config, which has every section.
     const std::string cmd = std::string(SF_MAPPER_EXE) + " --quiet --config " + SF_SOURCE_DIR +

@@ -32,7 +32,8 @@ const BadScenario kBadScenarios[] = {
      "scene.water_impedance"},
     {"Mesh_impedance", "scene: {meshes: [{file: plane.obj, role: seabed, impedance: -1}]}\n" + kTrajectory,
      "scene.meshes[0].impedance"},
-    {"FlsGeometry_elevation_samples", kScene + kTrajectory + "fls: {elevation_samples: 500}\n", "fls.elevation_samples"},
+    {"FlsGeometry_elevation_samples", kScene + kTrajectory + "fls: {elevation_samples: 500}\n",
+     "fls.elevation_samples"},
     {"FlsGeometry_range", kScene + kTrajectory + "fls: {range_min: 5, range_max: 4}\n", "fls.range_max"},
     {"FlsSim_rays_azimuth", kScene + kTrajectory + "fls: {rays_azimuth: 0}\n", "fls.rays_azimuth"},
     {"FlsMount_z_nan", kScene + kTrajectory + "fls: {mount: {z: .nan}}\n", "fls.mount.z"},
@@ -42,7 +43,8 @@ const BadScenario kBadScenarios[] = {
     {"Noise_scatterers", kScene + kTrajectory + "noise: {scatterers: 0}\n", "noise.scatterers"},
     {"Navigation_latency", kScene + kTrajectory + "navigation: {latency: -1}\n", "navigation.latency"},
     {"Motion_period", kScene + kTrajectory + "motion: {roll_amplitude_deg: 3, period: 0}\n", "motion.period"},
-    {"Pass_altitude", kScene + "trajectory: {passes: [{sequences: 2, altitude: 0}]}\n", "trajectory.passes[0].altitude"},
+    {"Pass_altitude", kScene + "trajectory: {passes: [{sequences: 2, altitude: 0}]}\n",
+     "trajectory.passes[0].altitude"},
     {"Waypoints_step", kScene + "trajectory: {waypoints: [{step: 0, points: [[0, 0, 17], [1, 0, 17]]}]}\n",
      "trajectory.waypoints[0].step"},
     {"Trajectory_period", kScene + "trajectory: {sequence_period: 0, passes: [{sequences: 2}]}\n",
@@ -85,8 +87,8 @@ TEST(ScenarioValidateControl, TheBaseScenarioSimulates) {
     TempDir dir;
     saveObj(test::flatPlane(20.0), dir.file("plane.obj"));
     test::writeText(dir.file("ok.yaml"), kScene + kTrajectory + kFast + "navigation: {latency: 0.05}\n");
-    const std::string cmd = std::string(SF_SIM_EXE) + " --quiet --scenario " + dir.file("ok.yaml") + " --log " +
-                            dir.file("x.lcmlog");
+    const std::string cmd =
+        std::string(SF_SIM_EXE) + " --quiet --scenario " + dir.file("ok.yaml") + " --log " + dir.file("x.lcmlog");
     EXPECT_EQ(std::system(cmd.c_str()), 0);
 }
 
