@@ -119,6 +119,12 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("ps_echo_min_count", g.ps_echo_min_count);
     seg.rejectUnknownKeys();
 
+    Fields survey(top.child("survey"), "survey");
+    survey.read("max_maps", m.survey.max_maps);
+    survey.read("release_margin", m.survey.release_margin);
+    survey.read("published_capacity", m.survey.published_capacity);
+    survey.rejectUnknownKeys();
+
     Fields nav(top.child("nav"), "nav");
     nav.read("max_gap_us", m.max_nav_gap_us);
     nav.read("buffer_capacity", m.nav_buffer_capacity);

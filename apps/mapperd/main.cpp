@@ -36,18 +36,90 @@ int64_t wallUs() {
         .count();
 }
 
-void writeOutputs(MapperNode& node, const std::string& map_out) {
-    node.segmentAndPublish();
+void writeMapFiles(const VoxelMap& map, const DaemonConfig& cfg, const std::string& path) {
     try {
-        saveMap(map_out, node.mapper().map(), node.config().variant);
-        savePly(map_out + ".ply", node.mapper().map(), node.config().mapper.segmentation.occupied_probability);
+        saveMap(path, map, cfg.variant);
+        savePly(path + ".ply", map, cfg.mapper.segmentation.occupied_probability);
     } catch (...) {
         // A full disk: no half-written temporary is left; the last good map stays.
-        std::remove((map_out + ".tmp").c_str());
-        std::remove((map_out + ".ply.tmp").c_str());
+        std::remove((path + ".tmp").c_str());
+        std::remove((path + ".ply.tmp").c_str());
         throw;
     }
-    spdlog::info("map written to {} (+ .ply)", map_out);
+    spdlog::info("map written to {} (+ .ply)", path);
+}
+
+// Survey outputs (docs/formats.md): per finalised map, its map file, PLY and
+// the objects it published with their voxels, each written atomically.
+void writeObjectsJson(const FinalisedMap& f, const std::string& variant, const std::string& path) {
+    const std::string tmp = path + ".tmp";
+    FILE* out = std::fopen(tmp.c_str(), "w");
+    if (!out) throw std::runtime_error("cannot write " + tmp + ": " + std::strerror(errno));
+    const VoxelMap& m = f.map;
+    std::fprintf(out, "{\"map_id\": %d, \"variant\": \"%s\", \"origin\": [%.6f, %.6f, %.6f], \"resolution\": %.6f, "
+                      "\"dims\": [%d, %d, %d],\n \"objects\": [",
+                 f.map_id, variant.c_str(), m.origin().x(), m.origin().y(), m.origin().z(), m.resolution(), m.nx(),
+                 m.ny(), m.nz());
+    for (std::size_t k = 0; k < f.objects.size(); ++k) {
+        const ObjectInfo& o = f.objects[k];
+        std::fprintf(out,
+                     "%s\n  {\"id\": %d, \"voxel_count\": %d, \"volume_m3\": %.6f, \"centroid\": [%.4f, %.4f, %.4f], "
+                     "\"bbox_min\": [%.4f, %.4f, %.4f], \"bbox_max\": [%.4f, %.4f, %.4f], \"height_m\": %.4f, "
+                     "\"ps_confirmed\": %s, \"voxels\": [",
+                     k ? "," : "", o.id, o.voxel_count, o.volume_m3, o.centroid.x(), o.centroid.y(), o.centroid.z(),
+                     o.bbox_min.x(), o.bbox_min.y(), o.bbox_min.z(), o.bbox_max.x(), o.bbox_max.y(), o.bbox_max.z(),
+                     o.height_m, o.ps_confirmed ? "true" : "false");
+        bool first = true;
+        for (std::size_t i = 0; i < m.size(); ++i)
+            if (f.segmenter.objectLabel(i) == o.id) {
+                std::fprintf(out, first ? "%zu" : ", %zu", i);
+                first = false;
+            }
+        std::fprintf(out, "]}");
+    }
+    std::fprintf(out, "\n]}\n");
+    const bool ok = std::fflush(out) == 0 && fsync(fileno(out)) == 0;
+    if (std::fclose(out) != 0 || !ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw std::runtime_error("cannot write " + path);
+    }
+}
+
+struct MapOutputs {
+    std::string map_out;  // --map-out: the first map (the single-map run's map)
+    std::string map_dir;  // --map-dir: every finalised map
+    int write_failures = 0;            // a finalised map that could not be written (logged)
+    std::vector<std::string> summary;  // one line per published object
+};
+
+void onFinalised(const FinalisedMap& f, const DaemonConfig& cfg, MapOutputs& outs) {
+    for (const ObjectInfo& o : f.objects)
+        outs.summary.push_back(fmt::format("map {} object {}: {} voxels, {:.3f} m3, centroid {:.2f} {:.2f} {:.2f}, "
+                                           "height {:.2f} m{}",
+                                           f.map_id, o.id, o.voxel_count, o.volume_m3, o.centroid.x(), o.centroid.y(),
+                                           o.centroid.z(), o.height_m, o.ps_confirmed ? "" : " (not PS-confirmed)"));
+    // Mid-mission, a failed write (a full disk) must not stop the mapping of
+    // the next object: it is logged and counted, and the run exits 1 at the end.
+    try {
+        if (!outs.map_dir.empty()) {
+            const std::string base = outs.map_dir + "/map_" + std::to_string(f.map_id);
+            writeMapFiles(f.map, cfg, base + ".map");
+            writeObjectsJson(f, cfg.variant, base + ".objects.json");
+        }
+        if (f.map_id == 1 && !outs.map_out.empty()) writeMapFiles(f.map, cfg, outs.map_out);
+    } catch (const std::exception& e) {
+        spdlog::error("map {}: {}", f.map_id, e.what());
+        ++outs.write_failures;
+    }
+}
+
+void writeOutputs(MapperNode& node, MapOutputs& outs) {
+    node.finish();  // every map still being made is finalised (and written)
+    // No map was ever anchored: the empty map, as before survey mode.
+    if (node.mapper().counters().map_initialisations == 0 && !outs.map_out.empty())
+        writeMapFiles(node.mapper().map(), node.config(), outs.map_out);
+    if (outs.write_failures > 0)
+        throw std::runtime_error(std::to_string(outs.write_failures) + " finalised map(s) could not be written");
 }
 
 // Issue 10, finding 7: a missing or read-only folder is found at start-up, not
@@ -91,13 +163,21 @@ void writeStatusJson(MapperNode& node, const std::string& path) {
     std::fprintf(f, "  \"rejected\": {");
     for (int i = 0; i < s.num_reasons; ++i)
         std::fprintf(f, "%s\"%s\": %lld", i ? ", " : "", s.reason_name[i].c_str(), static_cast<long long>(s.reason_count[i]));
-    std::fprintf(f, "},\n  \"objects\": %zu, \"peak_rss_kb\": %ld\n}\n", node.mapper().segmenter().objects().size(),
+    const MapperCounters& c = node.mapper().counters();
+    std::fprintf(f, "},\n  \"maps\": {\"anchored\": %lld, \"finalised\": %lld, \"detections\": %lld, "
+                    "\"detection_in_active_map\": %lld, \"detection_known_object\": %lld, "
+                    "\"detection_no_free_map\": %lld, \"objects_left_to_other_map\": %lld, \"objects_duplicate\": %lld},\n",
+                 static_cast<long long>(c.map_initialisations), static_cast<long long>(c.maps_finalised),
+                 static_cast<long long>(c.detections), static_cast<long long>(c.detection_in_active_map),
+                 static_cast<long long>(c.detection_known_object), static_cast<long long>(c.detection_no_free_map),
+                 static_cast<long long>(c.objects_left_to_other_map), static_cast<long long>(c.objects_duplicate));
+    std::fprintf(f, "  \"objects\": %lld, \"peak_rss_kb\": %ld\n}\n", static_cast<long long>(c.objects_published),
                  peakRssKb());
     const bool ok = std::fclose(f) == 0;
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot write " + path);
 }
 
-void printSummary(MapperNode& node) {
+void printSummary(MapperNode& node, const MapOutputs& outs) {
     const mapper_status_t& s = node.status();
     std::printf("state %s  variant %s  nav %lld  fls %lld/%lld used  ps %lld/%lld used\n", s.state.c_str(),
                 s.variant.c_str(), static_cast<long long>(s.nav_in), static_cast<long long>(s.fls_used),
@@ -108,9 +188,13 @@ void printSummary(MapperNode& node) {
                 s.proc_max_us);
     for (int i = 0; i < s.num_reasons; ++i)
         if (s.reason_count[i] > 0) std::printf("  %-24s %lld\n", s.reason_name[i].c_str(), static_cast<long long>(s.reason_count[i]));
-    for (const ObjectInfo& o : node.mapper().segmenter().objects())
-        std::printf("object %d: %d voxels, %.3f m3, centroid %.2f %.2f %.2f, height %.2f m\n", o.id, o.voxel_count,
-                    o.volume_m3, o.centroid.x(), o.centroid.y(), o.centroid.z(), o.height_m);
+    const MapperCounters& c = node.mapper().counters();
+    std::printf("maps %lld anchored, %lld finalised; detections %lld (%lld in an active map, %lld on a published "
+                "object, %lld with no free map)\n",
+                static_cast<long long>(c.map_initialisations), static_cast<long long>(c.maps_finalised),
+                static_cast<long long>(c.detections), static_cast<long long>(c.detection_in_active_map),
+                static_cast<long long>(c.detection_known_object), static_cast<long long>(c.detection_no_free_map));
+    for (const std::string& line : outs.summary) std::printf("%s\n", line.c_str());
 }
 
 // Offline: the log through the same path as live, read by our own reader,
@@ -195,7 +279,10 @@ int main(int argc, char** argv) {
     bool quiet = false, resume = false, check_checkpoint = false;
     app.add_option("--config", config_path, "mapper YAML config (docs/mapper-config.md)")->required()->check(CLI::ExistingFile);
     app.add_option("--log", log_path, "offline: read this LCM log as fast as possible instead of listening")->check(CLI::ExistingFile);
-    app.add_option("--map-out", map_out, "final map file (binary; a .ply is written beside it)");
+    app.add_option("--map-out", map_out, "the first map's file (binary; a .ply is written beside it)");
+    std::string map_dir;
+    app.add_option("--map-dir", map_dir,
+                   "survey: every finalised map as map_<id>.map (+ .map.ply, + .objects.json) in this folder");
     app.add_option("--variant", variant, variantChoices() + " (overrides the config's preset)");
     app.add_option("--lcm-url", lcm_url, "LCM provider URL (live mode)");
     app.add_option("--status-out", status_out, "write the final status (counts, timing) as JSON here");
@@ -243,8 +330,8 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
-    if (map_out.empty()) {
-        spdlog::error("--map-out is required");
+    if (map_out.empty() && map_dir.empty()) {
+        spdlog::error("--map-out or --map-dir is required");
         return 2;
     }
     if (resume && checkpoint_path.empty()) {
@@ -252,7 +339,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        checkWritable(map_out, "map (--map-out)");
+        if (!map_out.empty()) checkWritable(map_out, "map (--map-out)");
+        if (!map_dir.empty()) checkWritable(map_dir + "/map_probe", "map folder (--map-dir)");
         if (!octomap_out.empty()) checkWritable(octomap_out, "OctoMap (--octomap-out)");
         if (!status_out.empty()) checkWritable(status_out, "status (--status-out)");
         if (!checkpoint_path.empty()) checkWritable(checkpoint_path, "checkpoint (--checkpoint)");
@@ -279,6 +367,27 @@ int main(int argc, char** argv) {
             pub.objects = [&](const objects_t& m) { lcm->publish(cfg.objects_channel, &m); };
             pub.map = [&](const map_snapshot_t& m) { lcm->publish(cfg.map_channel, &m); };
         }
+        MapOutputs outs{map_out, map_dir};
+#ifdef SF_WITH_OCTOMAP
+        // The occupied set of the first map (the map --map-out holds; octomap_export.hpp).
+        auto writeOctomapOf = [&](const VoxelMap& map) {
+            const OctomapExportStats st = writeOctomap(octomap_out, map, cfg.mapper.segmentation.occupied_probability);
+            spdlog::info("OctoMap written to {} ({} occupied, {} free voxels)", octomap_out, st.occupied, st.free);
+        };
+#endif
+        pub.finalised = [&](const FinalisedMap& f) {
+            onFinalised(f, cfg, outs);
+#ifdef SF_WITH_OCTOMAP
+            if (f.map_id == 1 && !octomap_out.empty()) {
+                try {
+                    writeOctomapOf(f.map);
+                } catch (const std::exception& e) {
+                    spdlog::error("map 1: {}", e.what());
+                    ++outs.write_failures;
+                }
+            }
+#endif
+        };
         MapperNode* node_ptr = nullptr;
         std::unique_ptr<CheckpointWriter> checkpoints;
         double checkpoint_copy_max_us = 0.0;  // the message thread's share of a checkpoint
@@ -321,17 +430,14 @@ int main(int argc, char** argv) {
                          "at most {:.0f} us",
                          checkpoints->written(), checkpoints->failed(), checkpoints->skipped(), checkpoint_copy_max_us);
         }
-        writeOutputs(node, map_out);
+        writeOutputs(node, outs);
 #ifdef SF_WITH_OCTOMAP
-        if (!octomap_out.empty()) {  // the occupied set of the map just written (octomap_export.hpp)
-            const OctomapExportStats st =
-                writeOctomap(octomap_out, node.mapper().map(), cfg.mapper.segmentation.occupied_probability);
-            spdlog::info("OctoMap written to {} ({} occupied, {} free voxels)", octomap_out, st.occupied, st.free);
-        }
+        // No map was ever anchored: the empty map, as --map-out.
+        if (!octomap_out.empty() && node.mapper().counters().map_initialisations == 0) writeOctomapOf(node.mapper().map());
 #endif
         if (lcm) node.publishStatus();
         if (!status_out.empty()) writeStatusJson(node, status_out);
-        if (!quiet) printSummary(node);
+        if (!quiet) printSummary(node, outs);
         if (rc == 3) return 3;
     } catch (const std::exception& e) {
         spdlog::error("{}", e.what());

@@ -91,6 +91,12 @@ MapperNode::MapperNode(const DaemonConfig& cfg, Publisher out)
     status_msg_.reason_count.assign(status_msg_.reason_name.size(), 0);
     status_msg_.variant = variant_;
     status_msg_.state.reserve(16);
+    const std::size_t maps = static_cast<std::size_t>(m.survey.max_maps);
+    status_msg_.map_ids.reserve(maps);
+    status_msg_.map_centre_north.reserve(maps);
+    status_msg_.map_centre_east.reserve(maps);
+    status_msg_.map_centre_down.reserve(maps);
+    status_msg_.map_updates.reserve(maps);
     objects_msg_.objects.reserve(m.segmentation.max_objects);
     const std::size_t voxels = mapper_.map().size();
     snapshot_msg_.index.reserve(voxels);
@@ -156,9 +162,27 @@ void MapperNode::onNav(const void* data, std::size_t size) {
     if (o == Outcome::NavTimeJump && (!was_pending || mapper_.navCandidateCount() == 1)) ++nav_epoch_;
     newest_nav_utime_ = mapper_.newestNavUtime().value_or(INT64_MIN);
     flush(false);
+    // A map the vehicle has left is frozen by this NAV (Mapper::addNav), so
+    // finalising it here gives the same map live and offline.
+    finaliseLeftMaps();
     // Periodic outputs run on accepted NAV time only: a glitch stamp must not
     // drive them (issue 10, finding 3).
     if (o == Outcome::Used) maybePeriodic(newest_nav_utime_);
+}
+
+void MapperNode::finaliseLeftMaps() {
+    for (int s = mapper_.leavingSlot(); s >= 0; s = mapper_.leavingSlot()) {
+        const int id = mapper_.slot(s).id;
+        const std::vector<ObjectInfo>& objects = mapper_.finaliseSlot(s);
+        publishObjects(id, objects);
+        if (out_.finalised) out_.finalised(FinalisedMap{id, mapper_.slotMap(s), mapper_.segmenter(), objects});
+        mapper_.releaseSlot(s);
+    }
+}
+
+void MapperNode::finish() {
+    mapper_.leaveAll();
+    finaliseLeftMaps();
 }
 
 template <class Msg>
@@ -359,7 +383,7 @@ void MapperNode::maybePeriodic(int64_t utime) {
     };
     if (due(last_status_utime_, cfg_.status_period_s)) publishStatus();
     if (out_.checkpoint && due(last_checkpoint_utime_, cfg_.checkpoint_period_s)) out_.checkpoint();
-    if (mapper_.map().initialised() && due(last_segment_utime_, cfg_.segment_period_s)) segmentAndPublish();
+    if (mapper_.activeMaps() > 0 && due(last_segment_utime_, cfg_.segment_period_s)) segmentAndPublish();
     if (out_.map && mapper_.map().initialised() && due(last_map_utime_, cfg_.map_period_s)) {
         map_snapshot_t& snap = snapshot_msg_;
         snap.index.clear();
@@ -384,16 +408,24 @@ void MapperNode::maybePeriodic(int64_t utime) {
 }
 
 void MapperNode::segmentAndPublish() {
-    if (!mapper_.map().initialised()) return;
-    mapper_.segment();
+    for (int s = 0; s < mapper_.slotCount(); ++s) {
+        if (mapper_.slot(s).id == 0) continue;
+        mapper_.segmentSlot(s);
+        publishObjects(mapper_.slot(s).id, mapper_.segmenter().objects());
+    }
+}
+
+void MapperNode::publishObjects(int map_id, const std::vector<ObjectInfo>& objects) {
     if (!out_.objects) return;
     objects_t& msg = objects_msg_;
     msg.objects.clear();
     msg.utime = newest_data_utime_;
     msg.seq = objects_seq_++;
-    for (const ObjectInfo& o : mapper_.segmenter().objects()) {
+    for (const ObjectInfo& o : objects) {
         object_t t;
         t.id = o.id;
+        t.map_id = map_id;
+        t.ps_confirmed = o.ps_confirmed;
         t.voxel_count = o.voxel_count;
         t.volume_m3 = o.volume_m3;
         t.height_m = o.height_m;
@@ -412,8 +444,23 @@ const mapper_status_t& MapperNode::status() {
     mapper_status_t& s = status_msg_;
     s.utime = newest_data_utime_;
     s.seq = status_seq_;
-    s.state = mapper_.map().initialised() ? "mapping" : "idle";
+    s.state = mapper_.counters().map_initialisations > 0 ? "mapping" : "idle";
     const VoxelMap& m = mapper_.map();
+    s.map_ids.clear();
+    s.map_centre_north.clear();
+    s.map_centre_east.clear();
+    s.map_centre_down.clear();
+    s.map_updates.clear();
+    for (int k = 0; k < mapper_.slotCount(); ++k) {  // capacity reserved at start-up
+        if (mapper_.slot(k).id == 0) continue;
+        const Eigen::Vector3d c = mapper_.slotMap(k).centre();
+        s.map_ids.push_back(mapper_.slot(k).id);
+        s.map_centre_north.push_back(c.x());
+        s.map_centre_east.push_back(c.y());
+        s.map_centre_down.push_back(c.z());
+        s.map_updates.push_back(mapper_.slot(k).updates);
+    }
+    s.num_maps = static_cast<int32_t>(s.map_ids.size());
     for (int i = 0; i < 3; ++i) {
         s.map_origin[i] = m.origin()[i];
         s.map_centre[i] = m.centre()[i];
@@ -424,6 +471,9 @@ const mapper_status_t& MapperNode::status() {
     s.ps_in = c.ps_in;
     s.fls_used = c.fls_used;
     s.ps_used = c.ps_used;
+    s.maps_finalised = c.maps_finalised;
+    s.detections = c.detections;
+    s.detection_no_free_map = c.detection_no_free_map;
     // Names were filled at start-up in this same order.
     std::size_t r = 0;
     for (int i = 1; i < kOutcomeCount; ++i) s.reason_count[r++] = c.by_outcome[i];

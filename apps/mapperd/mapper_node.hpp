@@ -39,6 +39,15 @@ enum class TransportReject : int {
     kCount
 };
 
+// A survey map the vehicle has left (or every map at the end), segmented,
+// with the objects it publishes (labels as in segmenter.objectLabel).
+struct FinalisedMap {
+    int map_id;
+    const VoxelMap& map;
+    const Segmenter& segmenter;
+    const std::vector<ObjectInfo>& objects;
+};
+
 class MapperNode {
 public:
     struct Publisher {
@@ -47,6 +56,8 @@ public:
         std::function<void(const map_snapshot_t&)> map;
         // Called every daemon.checkpoint_period_s of accepted NAV time (if set).
         std::function<void()> checkpoint;
+        // Called once per finalised map, before its slot is freed (writes its files).
+        std::function<void(const FinalisedMap&)> finalised;
     };
 
     MapperNode(const DaemonConfig& cfg, Publisher out);
@@ -61,8 +72,15 @@ public:
     // Called periodically in live mode: releases messages that waited too long.
     void tick(int64_t now_wall_us);
 
+    // Segments every map being made and publishes its objects (one OBJECTS
+    // message per map).
     void segmentAndPublish();
     void publishStatus();
+    // Finalises every map the vehicle has left: segment, publish its objects,
+    // hand it to Publisher::finalised, free its slot.
+    void finaliseLeftMaps();
+    // End of the run (after the last flush): every map is finalised.
+    void finish();
 
     // Checkpoints (checkpoint.hpp): the pipeline, the waiting sonar messages,
     // the counters and sequence state. loadState needs a node built from the
@@ -117,6 +135,7 @@ private:
     void trackSeq(int channel, int64_t seq);
     void recordTime(std::chrono::steady_clock::time_point start);
     void maybePeriodic(int64_t data_utime);
+    void publishObjects(int map_id, const std::vector<ObjectInfo>& objects);
 
     DaemonConfig cfg_;
     Publisher out_;

@@ -140,12 +140,20 @@ Check SegmentationConfig::validate() const {
     return std::nullopt;
 }
 
+Check SurveyConfig::validate() const {
+    if (!inRange(max_maps, 1, kMaxSurveyMaps)) return bad("max_maps", range(1, kMaxSurveyMaps));
+    if (!finite(release_margin) || release_margin > 10000.0)
+        return bad("release_margin", "must be finite and <= 10000 m (negative: the sonars' maximum range)");
+    if (!inRange(published_capacity, 1, 1000000)) return bad("published_capacity", range(1, 1000000));
+    return std::nullopt;
+}
+
 Check MapperConfig::validate() const {
     if (Check c = first(std::pair{"fls", fls.validate()}, std::pair{"fls.mount", fls_mount.validate()},
                         std::pair{"ps", ps.validate()}, std::pair{"ps.mount", ps_mount.validate()},
                         std::pair{"map", map.validate()}, std::pair{"update", update.validate()},
                         std::pair{"ps_selection", ps_selection.validate()}, std::pair{"detector", detector.validate()},
-                        std::pair{"segmentation", segmentation.validate()}))
+                        std::pair{"segmentation", segmentation.validate()}, std::pair{"survey", survey.validate()}))
         return c;
     if (max_nav_gap_us <= 0) return bad("nav.max_gap_us", "must be > 0");
     if (!inRange(nav_buffer_capacity, 2, 1000000)) return bad("nav.buffer_capacity", range(2, 1000000));

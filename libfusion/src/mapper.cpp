@@ -1,5 +1,6 @@
 #include "sonarfusion/mapper.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -37,8 +38,9 @@ std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
     const double voxels = static_cast<double>(cfg.map.nx) * cfg.map.ny * cfg.map.nz;
     const double columns = static_cast<double>(cfg.map.nx + 1) * (cfg.map.ny + 1);
     const double fls = static_cast<double>(cfg.fls.beams) * cfg.fls.rows * 8.0 + (1 << 20);
-    const double bytes = voxels * 28.0 + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
-                         (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0;
+    const double bytes = voxels * (23.0 + 5.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
+                         (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0 +
+                         cfg.survey.published_capacity * 48.0;
     return bytes > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(bytes);
 }
 
@@ -48,13 +50,24 @@ const MapperConfig& checked(const MapperConfig& cfg) {
     if (!err.empty()) throw std::invalid_argument("mapper config: " + err);
     return cfg;
 }
+std::vector<VoxelMap> makeMaps(const MapperConfig& cfg) {
+    std::vector<VoxelMap> maps;
+    maps.reserve(static_cast<std::size_t>(cfg.survey.max_maps));
+    for (int i = 0; i < cfg.survey.max_maps; ++i) maps.emplace_back(cfg.map);
+    return maps;
+}
 }  // namespace
 
 Mapper::Mapper(const MapperConfig& cfg)
-    : cfg_(checked(cfg)), map_(cfg.map), fls_model_(cfg.fls), ps_model_(cfg.ps),
-      fls_updater_(fls_model_, cfg.update, map_), ps_carver_(ps_model_, cfg.update), detector_(cfg.detector),
-      segmenter_(cfg.segmentation, cfg.update.require_ps_observation, map_),
-      nav_(cfg.nav_buffer_capacity, cfg.max_nav_gap_us) {}
+    : cfg_(checked(cfg)), maps_(makeMaps(cfg)), slots_(maps_.size()),
+      release_margin_(cfg.survey.release_margin >= 0.0 ? cfg.survey.release_margin
+                                                       : std::max(cfg.fls.range_max, cfg.ps.range_max)),
+      published_(static_cast<std::size_t>(cfg.survey.published_capacity)), fls_model_(cfg.fls), ps_model_(cfg.ps),
+      fls_updater_(fls_model_, cfg.update, maps_.front()), ps_carver_(ps_model_, cfg.update),
+      detector_(cfg.detector), segmenter_(cfg.segmentation, cfg.update.require_ps_observation, maps_.front()),
+      nav_(cfg.nav_buffer_capacity, cfg.max_nav_gap_us) {
+    finalised_.reserve(static_cast<std::size_t>(cfg.segmentation.max_objects));
+}
 
 Outcome Mapper::count(Outcome o) {
     ++counters_.by_outcome[static_cast<int>(o)];
@@ -120,6 +133,7 @@ Outcome Mapper::addNav(const TimedPose& nav) {
             counters_.nav_used += nav_candidate_count_;
             nav_candidate_count_ = 0;
             ++counters_.nav_timeline_resets;
+            markLeftMaps(nav.pose.position);
             return count(Outcome::Used);
         }
     }
@@ -127,7 +141,66 @@ Outcome Mapper::addNav(const TimedPose& nav) {
     (void)nav_.add(nav);
     track_axis_.add(nav.pose.yaw);
     ++counters_.nav_used;
+    markLeftMaps(nav.pose.position);
     return count(Outcome::Used);
+}
+
+// A map the vehicle is farther from, horizontally, than its extent plus the
+// release margin can no longer be reached by either sonar: it is frozen from
+// this NAV on (so when it is finalised does not change its contents).
+void Mapper::markLeftMaps(const Eigen::Vector3d& vehicle) {
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        if (!updatable(static_cast<int>(s))) continue;
+        const VoxelMap& m = maps_[s];
+        const Eigen::Vector2d lo = m.origin().head<2>(), hi = lo + m.extent().head<2>();
+        const Eigen::Vector2d xy = vehicle.head<2>();
+        const Eigen::Vector2d d = (lo - xy).cwiseMax(xy - hi).cwiseMax(Eigen::Vector2d::Zero());
+        if (d.norm() > release_margin_) slots_[s].leaving = true;
+    }
+}
+
+bool Mapper::reaches(int slot, const Eigen::Vector3d& p, double range) const {
+    const VoxelMap& m = maps_[static_cast<std::size_t>(slot)];
+    const Eigen::Vector3d lo = m.origin(), hi = lo + m.extent();
+    const Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
+    return d.norm() <= range;
+}
+
+int Mapper::activeMaps() const {
+    int n = 0;
+    for (const MapSlot& s : slots_) n += s.id != 0;
+    return n;
+}
+
+void Mapper::onDetection(const Eigen::Vector3d& at) {
+    ++counters_.detections;
+    const Eigen::Vector2d xy = at.head<2>();
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        if (slots_[s].id == 0) continue;
+        const Eigen::Vector2d lo = maps_[s].origin().head<2>(), hi = lo + maps_[s].extent().head<2>();
+        if ((xy.array() >= lo.array()).all() && (xy.array() < hi.array()).all()) {
+            ++counters_.detection_in_active_map;
+            return;
+        }
+    }
+    // On an object already published (a later line over it): mapping it again
+    // would only publish it twice.
+    const double r = cfg_.detector.cluster_radius;
+    for (int i = 0; i < published_count_; ++i) {
+        const Box& b = published_[static_cast<std::size_t>(i)];
+        if ((xy.array() >= b.lo.head<2>().array() - r).all() && (xy.array() <= b.hi.head<2>().array() + r).all()) {
+            ++counters_.detection_known_object;
+            return;
+        }
+    }
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        if (slots_[s].id != 0) continue;
+        maps_[s].initialiseAt(at);
+        slots_[s] = MapSlot{next_map_id_++, false, 0};
+        ++counters_.map_initialisations;
+        return;
+    }
+    ++counters_.detection_no_free_map;  // never evicts a map still being made
 }
 
 std::optional<Pose> Mapper::navPoseAt(int64_t utime) const {
@@ -147,9 +220,17 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     if (!cfg_.update.fls_enabled) return count(Outcome::FlsDisabled);
     Pose pose;
     if (Outcome o = lookupPose(frame.utime, pose); o != Outcome::Used) return count(o);
-    if (!map_.initialised()) return count(Outcome::FlsBeforeMap);
-    const FlsUpdateStats st = fls_updater_.apply(frame, sensorToWorld(pose, cfg_.fls_mount), map_);
-    counters_.fls_points_outside_map += st.points_outside_map;
+    const Eigen::Isometry3d world_from_sensor = sensorToWorld(pose, cfg_.fls_mount);
+    bool any = false;
+    for (int s = 0; s < slotCount(); ++s) {
+        if (!updatable(s)) continue;
+        any = true;
+        if (!reaches(s, world_from_sensor.translation(), cfg_.fls.range_max)) continue;
+        const FlsUpdateStats st = fls_updater_.apply(frame, world_from_sensor, maps_[static_cast<std::size_t>(s)]);
+        counters_.fls_points_outside_map += st.points_outside_map;
+        if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
+    }
+    if (!any) return count(Outcome::FlsBeforeMap);
     ++counters_.fls_used;
     return count(Outcome::Used);
 }
@@ -165,45 +246,142 @@ Outcome Mapper::addPs(const PsPing& ping) {
     if (Outcome o = lookupPose(ping.utime, pose); o != Outcome::Used) return count(o);
     const Eigen::Isometry3d world_from_sensor = sensorToWorld(pose, cfg_.ps_mount);
 
-    if (!map_.initialised()) {
-        // Paper 2.1: the strongest echo of the ping feeds the rising-edge detector.
-        const std::optional<int> bin = maxIntensityBin(ping, cfg_.ps_selection);
-        if (!bin) return count(Outcome::PsNoEcho);
-        const Eigen::Vector3d echo =
-            world_from_sensor * (rangeOfBin(ping, *bin) * ps_model_.centreDirection(ping.head_angle));
-        if (detector_.addEchoPoint(echo)) {
-            map_.initialiseAt(*detector_.detection());
-            ++counters_.map_initialisations;
-        }
-        ++counters_.ps_used;
-        return count(Outcome::Used);
+    // Paper 2.3: closest-group range, then carving (Eqs. 10-13), into every
+    // map being made. Carving first: a map the detector anchors on this ping
+    // starts with the next one.
+    bool any = false;
+    std::optional<int> group;
+    for (int s = 0; s < slotCount(); ++s) {
+        if (!updatable(s)) continue;
+        if (!any) group = selectClosestGroup(ping, cfg_.ps_selection);
+        any = true;
+        if (!group || !cfg_.update.ps_carving_enabled) continue;
+        if (!reaches(s, world_from_sensor.translation(), ping.range_max)) continue;
+        const PsCarveStats st = ps_carver_.apply(ping.head_angle, rangeOfBin(ping, *group), world_from_sensor,
+                                                 maps_[static_cast<std::size_t>(s)], ping.intensity[*group] / 255.0);
+        counters_.ps_endpoints_outside_map += st.endpoints_outside_map;
+        if (st.endpoints_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
     }
 
-    // Paper 2.3: closest-group range, then carving (Eqs. 10-13).
-    const std::optional<int> bin = selectClosestGroup(ping, cfg_.ps_selection);
-    if (!bin) return count(Outcome::PsNoEcho);
-    if (cfg_.update.ps_carving_enabled) {
-        const PsCarveStats st = ps_carver_.apply(ping.head_angle, rangeOfBin(ping, *bin), world_from_sensor, map_,
-                                                 ping.intensity[*bin] / 255.0);
-        counters_.ps_endpoints_outside_map += st.endpoints_outside_map;
+    // Paper 2.1: the strongest echo of the ping feeds the rising-edge detector,
+    // which stays armed for the next object (survey mode).
+    const std::optional<int> peak = maxIntensityBin(ping, cfg_.ps_selection);
+    if (peak) {
+        const Eigen::Vector3d echo =
+            world_from_sensor * (rangeOfBin(ping, *peak) * ps_model_.centreDirection(ping.head_angle));
+        if (detector_.addEchoPoint(echo)) onDetection(*detector_.detection());
     }
+    if (any ? !group : !peak) return count(Outcome::PsNoEcho);
     ++counters_.ps_used;
     return count(Outcome::Used);
 }
 
-const SegmentationStats& Mapper::segment() {
+const SegmentationStats& Mapper::segment() { return segmentSlot(0); }
+
+const SegmentationStats& Mapper::segmentSlot(int slot) {
     segmenter_.setAlongTrack(track_axis_.axis());
-    return segmenter_.run(map_);
+    return segmenter_.run(maps_[static_cast<std::size_t>(slot)]);
+}
+
+int Mapper::leavingSlot() const {
+    int best = -1;
+    for (int s = 0; s < slotCount(); ++s) {
+        const MapSlot& m = slots_[static_cast<std::size_t>(s)];
+        if (m.id != 0 && m.leaving && (best < 0 || m.id < slots_[static_cast<std::size_t>(best)].id)) best = s;
+    }
+    return best;
+}
+
+void Mapper::leaveAll() {
+    for (MapSlot& s : slots_)
+        if (s.id != 0) s.leaving = true;
+}
+
+const std::vector<ObjectInfo>& Mapper::finaliseSlot(int slot) {
+    finalised_.clear();
+    const VoxelMap& own = maps_[static_cast<std::size_t>(slot)];
+    (void)segmentSlot(slot);
+    const float occupied = static_cast<float>(logOddsFromProbability(cfg_.segmentation.occupied_probability));
+    // Occupied voxels of map `m` whose centres lie inside the box.
+    auto occupiedIn = [&](const VoxelMap& m, const ObjectInfo& o) {
+        const double res = m.resolution();
+        VoxelIndex lo, hi;
+        lo.x = std::max(0, static_cast<int>(std::ceil((o.bbox_min.x() - m.origin().x()) / res - 0.5)));
+        lo.y = std::max(0, static_cast<int>(std::ceil((o.bbox_min.y() - m.origin().y()) / res - 0.5)));
+        lo.z = std::max(0, static_cast<int>(std::ceil((o.bbox_min.z() - m.origin().z()) / res - 0.5)));
+        hi.x = std::min(m.nx() - 1, static_cast<int>(std::floor((o.bbox_max.x() - m.origin().x()) / res - 0.5)));
+        hi.y = std::min(m.ny() - 1, static_cast<int>(std::floor((o.bbox_max.y() - m.origin().y()) / res - 0.5)));
+        hi.z = std::min(m.nz() - 1, static_cast<int>(std::floor((o.bbox_max.z() - m.origin().z()) / res - 0.5)));
+        int n = 0;
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x) n += m.logOdds(m.linear({x, y, z})) > occupied;
+        return n;
+    };
+    for (const ObjectInfo& o : segmenter_.objects()) {
+        // An object at this map's edge that another map still being made sees
+        // more of is left to that map (it publishes it when it is finalised).
+        bool other = false;
+        const int own_count = occupiedIn(own, o);
+        for (int s = 0; s < slotCount() && !other; ++s)
+            if (s != slot && slots_[static_cast<std::size_t>(s)].id != 0 &&
+                occupiedIn(maps_[static_cast<std::size_t>(s)], o) > own_count)
+                other = true;
+        if (other) {
+            ++counters_.objects_left_to_other_map;
+            continue;
+        }
+        bool duplicate = false;
+        for (int i = 0; i < published_count_ && !duplicate; ++i) {
+            const Box& b = published_[static_cast<std::size_t>(i)];
+            duplicate = (o.bbox_min.array() < b.hi.array()).all() && (b.lo.array() < o.bbox_max.array()).all();
+        }
+        if (duplicate) {
+            ++counters_.objects_duplicate;
+            continue;
+        }
+        published_[static_cast<std::size_t>(published_next_)] = Box{o.bbox_min, o.bbox_max};
+        published_next_ = (published_next_ + 1) % static_cast<int>(published_.size());
+        published_count_ = std::min(published_count_ + 1, static_cast<int>(published_.size()));
+        finalised_.push_back(o);
+        ++counters_.objects_published;
+    }
+    ++counters_.maps_finalised;
+    return finalised_;
+}
+
+void Mapper::releaseSlot(int slot) {
+    maps_[static_cast<std::size_t>(slot)].release();
+    slots_[static_cast<std::size_t>(slot)] = MapSlot{};
 }
 
 void Mapper::initialiseMapAt(const Eigen::Vector3d& centre) {
-    map_.initialiseAt(centre);
-    ++counters_.map_initialisations;
+    // Slot 0 when it is free (the single-map mapper), else the first free slot.
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        if (slots_[s].id != 0 && s > 0) continue;
+        if (slots_[s].id == 0) slots_[s] = MapSlot{next_map_id_++, false, 0};
+        maps_[s].initialiseAt(centre);
+        ++counters_.map_initialisations;
+        return;
+    }
+    ++counters_.detection_no_free_map;
 }
 
 
 void Mapper::saveState(StateWriter& w) const {
-    map_.saveState(w);
+    w.pod(static_cast<uint64_t>(maps_.size()));
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        maps_[s].saveState(w);
+        w.pod(slots_[s].id);
+        w.pod(static_cast<uint8_t>(slots_[s].leaving));
+        w.pod(slots_[s].updates);
+    }
+    w.pod(next_map_id_);
+    w.pod(published_count_);
+    w.pod(published_next_);
+    for (int i = 0; i < published_count_; ++i)
+        for (const Eigen::Vector3d* v : {&published_[static_cast<std::size_t>(i)].lo, &published_[static_cast<std::size_t>(i)].hi})
+            for (int k = 0; k < 3; ++k) w.pod((*v)[k]);
     detector_.saveState(w);
     nav_.saveState(w);
     w.pod(nav_candidate_count_);
@@ -214,7 +392,25 @@ void Mapper::saveState(StateWriter& w) const {
 
 bool Mapper::loadState(StateReader& r) {
     int held = 0;
-    if (!map_.loadState(r) || !detector_.loadState(r) || !nav_.loadState(r) || !r.pod(held) || held < 0 ||
+    if (!r.expect(static_cast<uint64_t>(maps_.size()))) return false;
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        uint8_t leaving = 0;
+        MapSlot m;
+        if (!maps_[s].loadState(r) || !r.pod(m.id) || !r.pod(leaving) || !r.pod(m.updates) || m.id < 0 ||
+            leaving > 1 || m.updates < 0 || (m.id != 0) != maps_[s].initialised())
+            return false;
+        m.leaving = leaving != 0;
+        slots_[s] = m;
+    }
+    const int cap = static_cast<int>(published_.size());
+    if (!r.pod(next_map_id_) || next_map_id_ < 1 || !r.pod(published_count_) || !r.pod(published_next_) ||
+        published_count_ < 0 || published_count_ > cap || published_next_ < 0 || published_next_ >= cap)
+        return false;
+    for (int i = 0; i < published_count_; ++i)
+        for (Eigen::Vector3d* v : {&published_[static_cast<std::size_t>(i)].lo, &published_[static_cast<std::size_t>(i)].hi})
+            for (int k = 0; k < 3; ++k)
+                if (!r.pod((*v)[k]) || !std::isfinite((*v)[k])) return false;
+    if (!detector_.loadState(r) || !nav_.loadState(r) || !r.pod(held) || held < 0 ||
         held >= cfg_.nav_timeline_confirm)
         return false;
     for (int i = 0; i < held; ++i)
@@ -225,7 +421,8 @@ bool Mapper::loadState(StateReader& r) {
 
 std::size_t Mapper::stateBytesBound() const {
     const std::size_t pose = sizeof(int64_t) + 6 * sizeof(double);
-    return 64 + map_.size() * (sizeof(float) + 1) + 24 * 2 +
+    return 64 + maps_.size() * (maps_.front().size() * (sizeof(float) + 1) + 64) + 64 +
+           published_.size() * 48 + 24 * 2 +
            static_cast<std::size_t>(cfg_.detector.seabed_capacity + cfg_.detector.risen_capacity) * 24 + 64 +
            static_cast<std::size_t>(cfg_.nav_buffer_capacity) * pose + 16 +
            static_cast<std::size_t>(kMaxNavTimelineConfirm) * pose + 64 + sizeof(MapperCounters);

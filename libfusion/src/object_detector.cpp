@@ -26,6 +26,7 @@ void ObjectDetector::reset() {
     risen_count_ = risen_next_ = 0;
     last_xy_.setZero();
     detection_.reset();
+    detections_ = 0;
 }
 
 // Least-squares plane through the seabed echoes within seabed_radius of xy. The
@@ -106,7 +107,7 @@ void ObjectDetector::addSeabed(const Eigen::Vector3d& p) {
 }
 
 bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
-    if (detection_ || !p.allFinite()) return false;
+    if (!p.allFinite()) return false;
     const Eigen::Vector2d xy = p.head<2>();
     last_xy_ = xy;
     const std::optional<SeabedFit> seabed = seabedAt(xy);
@@ -132,6 +133,14 @@ bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
         }
     if (n < cfg_.min_risen_echoes) return false;
     detection_ = sum / n;
+    ++detections_;
+    // The detector stays armed (survey mode): the echoes of this cluster are
+    // spent, so the same object declares again only from fresh echoes.
+    int kept = 0;
+    for (int i = 0; i < risen_count_; ++i)
+        if ((risen_[i].head<2>() - xy).squaredNorm() > c2) risen_[kept++] = risen_[i];
+    risen_count_ = kept;
+    risen_next_ = kept % cfg_.risen_capacity;
     return true;
 }
 
@@ -164,13 +173,15 @@ void ObjectDetector::saveState(StateWriter& w) const {
     w.pod(static_cast<uint8_t>(detection_.has_value()));
     const Eigen::Vector3d d = detection_.value_or(Eigen::Vector3d::Zero());
     for (int i = 0; i < 3; ++i) w.pod(d[i]);
+    w.pod(detections_);
 }
 
 bool ObjectDetector::loadState(StateReader& r) {
     uint8_t has = 0;
     Eigen::Vector3d d;
     if (!loadRing(r, seabed_, seabed_count_, seabed_next_) || !loadRing(r, risen_, risen_count_, risen_next_) ||
-        !r.pod(last_xy_.x()) || !r.pod(last_xy_.y()) || !r.pod(has) || !r.pod(d[0]) || !r.pod(d[1]) || !r.pod(d[2]))
+        !r.pod(last_xy_.x()) || !r.pod(last_xy_.y()) || !r.pod(has) || !r.pod(d[0]) || !r.pod(d[1]) || !r.pod(d[2]) ||
+        !r.pod(detections_) || detections_ < 0)
         return false;
     detection_.reset();
     if (has) detection_ = d;

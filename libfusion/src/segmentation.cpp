@@ -350,6 +350,7 @@ void Segmenter::label(const VoxelMap& map) {
         o.bbox_min = map.origin() + Eigen::Vector3d(lo.x, lo.y, lo.z) * res;
         o.bbox_max = map.origin() + Eigen::Vector3d(hi.x + 1, hi.y + 1, hi.z + 1) * res;
         o.height_m = top_height;
+        o.ps_confirmed = require_ps_;  // seeds are PS-confirmed exactly when the variant requires it
         objects_.push_back(o);
     }
     // Low candidates that no seed reached belong to no object.

@@ -25,6 +25,12 @@ void VoxelMap::clear() {
     std::fill(flags_.begin(), flags_.end(), uint8_t{0});
 }
 
+void VoxelMap::release() {
+    clear();
+    origin_.setZero();
+    initialised_ = false;
+}
+
 void VoxelMap::initialiseAt(const Eigen::Vector3d& centre) {
     clear();
     origin_ = centre - 0.5 * extent();
@@ -36,6 +42,7 @@ void VoxelMap::saveState(StateWriter& w) const {
     w.pod(static_cast<uint64_t>(log_odds_.size()));
     w.pod(static_cast<uint8_t>(initialised_));
     for (int i = 0; i < 3; ++i) w.pod(origin_[i]);
+    if (!initialised_) return;  // an unanchored map is all zeros (release() and the constructor see to it)
     w.bytes(log_odds_.data(), log_odds_.size() * sizeof(float));
     w.bytes(flags_.data(), flags_.size());
 }
@@ -47,6 +54,12 @@ bool VoxelMap::loadState(StateReader& r) {
     for (int i = 0; i < 3; ++i)
         if (!r.pod(o[i])) return false;
     if (!o.allFinite() || init > 1) return false;
+    if (init == 0) {
+        clear();
+        origin_ = o;
+        initialised_ = false;
+        return true;
+    }
     if (!r.bytes(log_odds_.data(), log_odds_.size() * sizeof(float)) || !r.bytes(flags_.data(), flags_.size()))
         return false;
     for (float& l : log_odds_)  // never trust a value from disk to be inside the clamp

@@ -158,8 +158,10 @@ TEST(BadInput, HeldNavThatDoesNotContinueItselfRestartsTheCandidate) {
 TEST(BadInput, PointsOutsideTheMapAreSkippedNeverWrittenOutside) {
     Mapper m{MapperConfig{}};
     m.initialiseMapAt(Eigen::Vector3d(0.0, 0.0, 20.0));
-    // The vehicle 200 m away: every FLS point and PS ray misses the grid.
-    TimedPose far = test::poseAt(1000, 200.0, 0.0, 16.88);
+    // The vehicle just south of the grid (x < -5 m), looking south, away from
+    // it: every FLS point and PS ray misses the grid. (From much farther away
+    // the map is out of both sonars' reach and not updated at all.)
+    TimedPose far = test::poseAt(1000, -5.5, 0.0, 16.88, M_PI);
     m.addNav(far);
     auto frame = test::blankFrame(m.config().fls, 1000);
     std::fill(frame.pixels.begin(), frame.pixels.end(), 255);

@@ -15,6 +15,7 @@ constexpr double kDegToRad = M_PI / 180.0;
 // the validators and the daemon's message guard).
 constexpr int kMaxFlsBeams = 4096, kMaxFlsRows = 16384, kMaxPsBins = 65536, kMaxMapCells = 4096;
 constexpr int kMaxNavTimelineConfirm = 64;
+constexpr int kMaxSurveyMaps = 64;
 
 // A value a config struct cannot take: its key as the YAML files spell it,
 // relative to the struct's own block ("nx" in map:, "range_max" in fls:;
@@ -208,6 +209,21 @@ struct SegmentationConfig {
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `segmentation` block
 };
 
+// Survey mode (issue 13): a pool of bounded maps, allocated at start-up, that
+// follows the vehicle. A PS detection outside every active map (and away from
+// every object already published) anchors a new map in a free slot; a map the
+// vehicle has left is frozen, finalised (segmented, its objects published) and
+// its slot freed. docs/algorithm.md, "Survey mode".
+struct SurveyConfig {
+    int max_maps = 4;  // maps allocated at start-up (1: the single-map mapper of the paper)
+    // Horizontal distance (m) beyond a map's extent at which the vehicle has left
+    // it. Negative: the longer of the FLS and PS maximum ranges, the farthest
+    // either sonar can still reach into the map from.
+    double release_margin = -1.0;
+    int published_capacity = 256;  // bounding boxes of published objects remembered, to refuse duplicates
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `survey` block
+};
+
 struct MapperConfig {
     FlsGeometry fls;
     PsGeometry ps;
@@ -218,6 +234,7 @@ struct MapperConfig {
     PsSelectionConfig ps_selection;
     DetectorConfig detector;
     SegmentationConfig segmentation;
+    SurveyConfig survey;
     int64_t max_nav_gap_us = 500000;  // refuse to interpolate over a NAV gap larger than this
     int nav_buffer_capacity = 4096;   // NAV samples kept for interpolation
     // A NAV more than max_nav_gap_us away from the newest (ahead, or behind: a

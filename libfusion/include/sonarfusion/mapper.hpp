@@ -49,6 +49,22 @@ struct MapperCounters {
     int64_t ps_endpoints_outside_map = 0;
     int64_t map_initialisations = 0;
     int64_t nav_timeline_resets = 0;  // confirmed NAV time jumps (clock steps, long dropouts)
+    // Survey mode: what became of each detection, and of the maps.
+    int64_t detections = 0;
+    int64_t detection_in_active_map = 0;    // inside an active map: that map maps it
+    int64_t detection_known_object = 0;     // on an object already published
+    int64_t detection_no_free_map = 0;      // every slot busy: counted, nothing evicted
+    int64_t maps_finalised = 0;
+    int64_t objects_published = 0;
+    int64_t objects_left_to_other_map = 0;  // a map that sees more of it publishes it
+    int64_t objects_duplicate = 0;          // overlapped an object already published
+};
+
+// One slot of the survey pool. id 0: free.
+struct MapSlot {
+    int id = 0;
+    bool leaving = false;  // the vehicle has left it: frozen, to be finalised
+    int64_t updates = 0;   // FLS frames and PS pings that reached it
 };
 
 class Mapper {
@@ -74,6 +90,28 @@ public:
     // Paper 2.4 over the current map, the seabed averaged along the track axis
     // of the NAV received so far (see trackAxis()).
     const SegmentationStats& segment();
+    // The same over the map of survey slot `slot`.
+    const SegmentationStats& segmentSlot(int slot);
+
+    // Survey mode (SurveyConfig). Slots are fixed at construction; map() is
+    // slot 0's map (the first map anchored: the single-map mapper's map).
+    [[nodiscard]] int slotCount() const { return static_cast<int>(maps_.size()); }
+    [[nodiscard]] const VoxelMap& slotMap(int slot) const { return maps_[static_cast<std::size_t>(slot)]; }
+    [[nodiscard]] const MapSlot& slot(int slot) const { return slots_[static_cast<std::size_t>(slot)]; }
+    [[nodiscard]] int activeMaps() const;
+    // A slot the vehicle has left (lowest map id first), -1 when none: the
+    // caller finalises it (finaliseSlot), writes what it needs, then releases it.
+    [[nodiscard]] int leavingSlot() const;
+    // Marks every active map as left (shutdown, end of a log).
+    void leaveAll();
+    // Segments the slot's map and returns the objects it publishes (labels as
+    // in segmenter()): an object is left to another active map that holds at
+    // least as many occupied voxels inside its bounding box, and never
+    // published twice (its box overlapping one already published). The
+    // published boxes are remembered (SurveyConfig::published_capacity).
+    const std::vector<ObjectInfo>& finaliseSlot(int slot);
+    // Frees the slot for a new map.
+    void releaseSlot(int slot);
 
     // Checkpoints: everything the pipeline needs to go on (map, detector, NAV
     // history and held samples, track axis, counters). loadState needs a Mapper
@@ -87,8 +125,8 @@ public:
     // Anchors the map by hand (e.g. a known target, or a restored checkpoint).
     void initialiseMapAt(const Eigen::Vector3d& centre);
 
-    [[nodiscard]] const VoxelMap& map() const { return map_; }
-    [[nodiscard]] VoxelMap& mutableMap() { return map_; }
+    [[nodiscard]] const VoxelMap& map() const { return maps_.front(); }
+    [[nodiscard]] VoxelMap& mutableMap() { return maps_.front(); }
     [[nodiscard]] const Segmenter& segmenter() const { return segmenter_; }
     [[nodiscard]] const ObjectDetector& detector() const { return detector_; }
     [[nodiscard]] const TrackAxis& trackAxis() const { return track_axis_; }
@@ -100,9 +138,24 @@ public:
 private:
     Outcome count(Outcome o);
     Outcome lookupPose(int64_t utime, Pose& out) const;
+    void onDetection(const Eigen::Vector3d& at);
+    void markLeftMaps(const Eigen::Vector3d& vehicle);
+    // Whether a sensor at `p` with this maximum range can reach the slot's map.
+    [[nodiscard]] bool reaches(int slot, const Eigen::Vector3d& p, double range) const;
+    [[nodiscard]] bool updatable(int slot) const { return slots_[slot].id != 0 && !slots_[slot].leaving; }
+
+    struct Box {
+        Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+    };
 
     MapperConfig cfg_;
-    VoxelMap map_;
+    std::vector<VoxelMap> maps_;  // one per survey slot, all allocated here
+    std::vector<MapSlot> slots_;
+    int next_map_id_ = 1;
+    double release_margin_ = 0.0;
+    std::vector<Box> published_;  // ring of published objects' bounding boxes
+    int published_count_ = 0, published_next_ = 0;
+    std::vector<ObjectInfo> finalised_;  // capacity max_objects
     FlsModel fls_model_;
     PsModel ps_model_;
     FlsUpdater fls_updater_;

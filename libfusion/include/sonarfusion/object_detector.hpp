@@ -28,14 +28,17 @@ class ObjectDetector {
 public:
     explicit ObjectDetector(const DetectorConfig& cfg);  // rings allocated here
 
-    // Feeds one echo point (NED). Returns true on the echo that declares an object.
+    // Feeds one echo point (NED). Returns true on each echo that declares an
+    // object (detection() is then its position). The detector stays armed: the
+    // declaring cluster's echoes are spent and later clusters declare again.
     bool addEchoPoint(const Eigen::Vector3d& p);
     void reset();
     void saveState(StateWriter& w) const;
     [[nodiscard]] bool loadState(StateReader& r);
 
     [[nodiscard]] bool detected() const { return detection_.has_value(); }
-    // Mean position of the risen echoes of the cluster that declared the object.
+    [[nodiscard]] int64_t detections() const { return detections_; }
+    // Mean position of the risen echoes of the cluster that declared the latest object.
     [[nodiscard]] const std::optional<Eigen::Vector3d>& detection() const { return detection_; }
     // Seabed plane around `xy` from the seabed echoes within seabed_radius;
     // nothing until min_seabed_echoes lie there.
@@ -57,6 +60,7 @@ private:
     int risen_count_ = 0, risen_next_ = 0;
     Eigen::Vector2d last_xy_ = Eigen::Vector2d::Zero();
     std::optional<Eigen::Vector3d> detection_;
+    int64_t detections_ = 0;
 };
 
 }  // namespace sonarfusion

@@ -20,6 +20,9 @@ struct ObjectInfo {
     Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();  // voxel bounds (outer faces)
     Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
     double height_m = 0.0;  // top of the object above the local seabed baseline
+    // Its seed voxels were confirmed by PS echoes (the variants that require
+    // confirmation); false where the FLS alone declared it (fls_only).
+    bool ps_confirmed = false;
 };
 
 struct SegmentationStats {

@@ -38,6 +38,8 @@ public:
     // Clears every voxel and places the grid so that `centre` is its centre.
     void initialiseAt(const Eigen::Vector3d& centre);
     void clear();
+    // Clears the map and marks it unanchored (a survey slot freed for reuse).
+    void release();
     [[nodiscard]] bool initialised() const { return initialised_; }
 
     [[nodiscard]] int nx() const { return nx_; }
