@@ -356,10 +356,10 @@ void Mapper::releaseSlot(int slot) {
 }
 
 void Mapper::initialiseMapAt(const Eigen::Vector3d& centre) {
-    // Slot 0 when it is free (the single-map mapper), else the first free slot.
+    // The first free slot (slot 0 in a fresh mapper: map()).
     for (std::size_t s = 0; s < maps_.size(); ++s) {
-        if (slots_[s].id != 0 && s > 0) continue;
-        if (slots_[s].id == 0) slots_[s] = MapSlot{next_map_id_++, false, 0};
+        if (slots_[s].id != 0) continue;
+        slots_[s] = MapSlot{next_map_id_++, false, 0};
         maps_[s].initialiseAt(centre);
         ++counters_.map_initialisations;
         return;

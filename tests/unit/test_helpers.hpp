@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <vector>
 
 #include "sonarfusion/config.hpp"
@@ -99,10 +100,32 @@ struct BoxWorld {
     }
 };
 
+// Several such boxes along the track (survey tests): the nearest surface of any.
+struct BoxesWorld {
+    std::vector<BoxWorld> boxes;
+    explicit BoxesWorld(std::initializer_list<double> centres_x) {
+        for (double x : centres_x) {
+            BoxWorld b;
+            b.box_min.x() += x;
+            b.box_max.x() += x;
+            boxes.push_back(b);
+        }
+    }
+    double cast(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double max_range) const {
+        double best = -1.0;
+        for (const BoxWorld& b : boxes) {
+            const double r = b.cast(o, d, max_range);
+            if (r >= 0.0 && (best < 0.0 || r < best)) best = r;
+        }
+        return best;
+    }
+};
+
 // Vehicle at 3.12 m altitude heading north, `x` metres along track.
 inline TimedPose trackPose(int64_t utime, double x) { return poseAt(utime, x, 0.0, 20.0 - 3.12); }
 
-inline OwnedPing simulatePing(const BoxWorld& w, const PsModel& m, const Pose& pose, int64_t utime, double head) {
+template <class World>
+inline OwnedPing simulatePing(const World& w, const PsModel& m, const Pose& pose, int64_t utime, double head) {
     OwnedPing p = blankPing(500, 10.0, utime, head);
     const Eigen::Isometry3d s = sensorToWorld(pose, Mounting{});
     const double r = w.cast(s.translation(), s.linear() * m.centreDirection(head), 10.0);
@@ -113,7 +136,8 @@ inline OwnedPing simulatePing(const BoxWorld& w, const PsModel& m, const Pose& p
     return p;
 }
 
-inline OwnedFrame simulateFrame(const BoxWorld& w, const FlsGeometry& g, const FlsModel& m, const Pose& pose,
+template <class World>
+inline OwnedFrame simulateFrame(const World& w, const FlsGeometry& g, const FlsModel& m, const Pose& pose,
                                 int64_t utime) {
     OwnedFrame f = blankFrame(g, utime);
     const Eigen::Isometry3d s = sensorToWorld(pose, Mounting{});

@@ -65,6 +65,54 @@ TEST(NoAllocation, ProcessingFramesPingsAndSegmentationAllocatesNothing) {
     EXPECT_GE(mapper.segmenter().objects().size(), 1u);
 }
 
+// Survey mode: two boxes 25 m apart, a second map anchored, the first
+// finalised and freed on the way, all without allocating.
+TEST(NoAllocation, ASurveyAnchoringFinalisingAndFreeingMapsAllocatesNothing) {
+    constexpr double kDeg = M_PI / 180.0;
+    MapperConfig cfg;
+    cfg.segmentation.seabed_from_ps_echoes = false;
+    Mapper mapper{cfg};
+    const test::BoxesWorld world{0.0, 25.0};
+    const int steps = 7400;
+    std::vector<TimedPose> navs;
+    std::vector<test::OwnedPing> pings;
+    std::vector<test::OwnedFrame> frames;
+    for (int i = 0; i < steps; ++i) {
+        const int64_t t = 1000000 + i * 50000LL;
+        navs.push_back(test::trackPose(t, -6.0 + 0.005 * i));
+        const int phase = i % 80;
+        pings.push_back(test::simulatePing(world, mapper.psModel(), navs.back().pose, t,
+                                           (phase < 40 ? -20 + phase : 60 - phase) * kDeg));
+        if (i % 4 == 0) frames.push_back(test::simulateFrame(world, cfg.fls, mapper.flsModel(), navs.back().pose, t));
+    }
+    for (auto& p : pings) p.view.intensity = p.bins.data();
+    for (auto& f : frames) f.view.data = f.pixels.data();
+
+    std::size_t published = 0;
+    auto finaliseLeft = [&] {
+        for (int s = mapper.leavingSlot(); s >= 0; s = mapper.leavingSlot()) {
+            published += mapper.finaliseSlot(s).size();
+            mapper.releaseSlot(s);
+        }
+    };
+    g_allocations = 0;
+    g_counting = true;
+    for (int i = 0; i < steps; ++i) {
+        mapper.addNav(navs[i]);
+        finaliseLeft();
+        mapper.addPs(pings[i].view);
+        if (i % 4 == 0) mapper.addFls(frames[i / 4].view);
+    }
+    mapper.leaveAll();
+    finaliseLeft();
+    g_counting = false;
+
+    EXPECT_EQ(g_allocations.load(), 0);
+    EXPECT_EQ(mapper.counters().map_initialisations, 2);
+    EXPECT_EQ(mapper.counters().maps_finalised, 2);
+    EXPECT_GE(published, 2u);
+}
+
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
     return RUN_ALL_TESTS();

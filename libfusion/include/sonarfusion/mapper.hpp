@@ -122,7 +122,8 @@ public:
     // An upper bound of saveState's size, for sizing the buffer once.
     [[nodiscard]] std::size_t stateBytesBound() const;
 
-    // Anchors the map by hand (e.g. a known target, or a restored checkpoint).
+    // Anchors a map by hand (e.g. a known target) in the first free slot;
+    // counted as detection_no_free_map when there is none.
     void initialiseMapAt(const Eigen::Vector3d& centre);
 
     [[nodiscard]] const VoxelMap& map() const { return maps_.front(); }
