@@ -63,6 +63,8 @@ const BadFile kBadFiles[] = {
     // MapperConfig's own (nav)
     {"Nav_max_gap0", "nav: {max_gap_us: 0}", "nav.max_gap_us"},
     {"Nav_confirm0", "nav: {timeline_confirm: 0}", "nav.timeline_confirm"},
+    {"Survey_max_maps0", "survey: {max_maps: 0}", "survey.max_maps"},
+    {"Survey_release_margin_inf", "survey: {release_margin: .inf}", "survey.release_margin"},
     // DaemonConfig
     {"Daemon_queue0", "daemon: {queue_capacity: 0}", "daemon.queue_capacity"},
     {"Daemon_memory", "map: {nx: 4096, ny: 4096, nz: 64}", "daemon.memory_budget_mb"},

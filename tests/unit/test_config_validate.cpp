@@ -73,6 +73,8 @@ const BadValue kBadValues[] = {
     {"Nav_max_gap0", [](MapperConfig& c) { c.max_nav_gap_us = 0; }, "nav.max_gap_us"},
     {"Nav_buffer1", [](MapperConfig& c) { c.nav_buffer_capacity = 1; }, "nav.buffer_capacity"},
     {"Nav_confirm0", [](MapperConfig& c) { c.nav_timeline_confirm = 0; }, "nav.timeline_confirm"},
+    {"Survey_max_maps65", [](MapperConfig& c) { c.survey.max_maps = 65; }, "survey.max_maps"},
+    {"Survey_published0", [](MapperConfig& c) { c.survey.published_capacity = 0; }, "survey.published_capacity"},
 };
 
 class ConfigValidate : public ::testing::TestWithParam<BadValue> {};
