@@ -70,6 +70,8 @@ const BadValue kBadValues[] = {
      "segmentation.baseline_window"},
     {"Segmentation_extension", [](MapperConfig& c) { c.segmentation.fls_only_extension = 1000; },
      "segmentation.fls_only_extension"},
+    {"Survey_max_maps0", [](MapperConfig& c) { c.survey.max_maps = 0; }, "survey.max_maps"},
+    {"Survey_release_margin_nan", [](MapperConfig& c) { c.survey.release_margin = NAN; }, "survey.release_margin"},
     {"Nav_max_gap0", [](MapperConfig& c) { c.max_nav_gap_us = 0; }, "nav.max_gap_us"},
     {"Nav_buffer1", [](MapperConfig& c) { c.nav_buffer_capacity = 1; }, "nav.buffer_capacity"},
     {"Nav_confirm0", [](MapperConfig& c) { c.nav_timeline_confirm = 0; }, "nav.timeline_confirm"},
