@@ -105,9 +105,9 @@ MapFileHeader readHeader(std::ifstream& f, const std::string& path, uint64_t fil
     if (len > kMaxVariantLen) fail(path, "variant name too long (" + std::to_string(len) + " bytes, at most 64)");
     h.variant.resize(len);
     if (len && !f.read(h.variant.data(), len)) fail(path, "truncated header");
-    if (h.nx <= 0 || h.ny <= 0 || h.nz <= 0 || h.nx > 4096 || h.ny > 4096 || h.nz > 4096)
+    if (h.nx <= 0 || h.ny <= 0 || h.nz <= 0 || h.nx > kMaxMapCells || h.ny > kMaxMapCells || h.nz > kMaxMapCells)
         fail(path, "bad dimensions " + std::to_string(h.nx) + " x " + std::to_string(h.ny) + " x " +
-                       std::to_string(h.nz) + " (each must be in 1..4096)");
+                       std::to_string(h.nz) + " (each must be in 1.." + std::to_string(kMaxMapCells) + ")");
     if (!(h.resolution > 0.0) || !std::isfinite(h.resolution)) fail(path, "bad resolution");
     for (int i = 0; i < 3; ++i) {
         const double far = h.origin[i] + n[i] * h.resolution;

@@ -28,7 +28,8 @@ struct GridSpec {
         return x >= 0 && y >= 0 && z >= 0 && x < nx && y < ny && z < nz;
     }
     [[nodiscard]] std::size_t linear(int x, int y, int z) const {
-        return (static_cast<std::size_t>(z) * ny + y) * nx + x;
+        return latticeIndex(static_cast<std::size_t>(x), static_cast<std::size_t>(y), static_cast<std::size_t>(z),
+                            static_cast<std::size_t>(nx), static_cast<std::size_t>(ny));
     }
     [[nodiscard]] Eigen::Vector3i index(std::size_t i) const {
         const std::size_t layer = static_cast<std::size_t>(nx) * ny;

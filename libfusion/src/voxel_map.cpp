@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace sonarfusion {
 
@@ -10,7 +11,7 @@ VoxelMap::VoxelMap(const MapConfig& cfg)
     : nx_(cfg.nx), ny_(cfg.ny), nz_(cfg.nz), resolution_(cfg.resolution),
       clamp_min_(cfg.clamp_min), clamp_max_(cfg.clamp_max), snap_to_lattice_(cfg.snap_to_world_lattice) {
     if (nx_ <= 0 || ny_ <= 0 || nz_ <= 0 || nx_ > kMaxMapCells || ny_ > kMaxMapCells || nz_ > kMaxMapCells)
-        throw std::invalid_argument("map dimensions must be in 1..4096");
+        throw std::invalid_argument("map dimensions must be in 1.." + std::to_string(kMaxMapCells));
     if (!(resolution_ > 0.0) || !std::isfinite(resolution_))
         throw std::invalid_argument("map resolution must be a positive number");
     if (!(clamp_min_ < 0.0f && clamp_max_ > 0.0f))

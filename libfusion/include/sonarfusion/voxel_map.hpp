@@ -24,6 +24,13 @@ struct VoxelIndex {
 // Inverse of Eq. 9 (Eqs. 5 and 12 use it with P_o and P_f).
 [[nodiscard]] inline double logOddsFromProbability(double p) { return std::log(p / (1.0 - p)); }
 
+// The one lattice: voxel (x, y, z) of a grid nx wide and ny deep is element
+// (z * ny + y) * nx + x (x fastest). Every grid in the project indexes by it.
+[[nodiscard]] constexpr std::size_t latticeIndex(std::size_t x, std::size_t y, std::size_t z, std::size_t nx,
+                                                 std::size_t ny) {
+    return (z * ny + y) * nx + x;
+}
+
 class VoxelMap {
 public:
     static constexpr uint8_t kPsObserved = 1u << 0;  // a PS ray crossed or ended here
@@ -58,7 +65,8 @@ public:
     [[nodiscard]] bool worldToIndex(const Eigen::Vector3d& p, VoxelIndex& out) const;
     [[nodiscard]] Eigen::Vector3d centreOf(const VoxelIndex& v) const;
     [[nodiscard]] std::size_t linear(const VoxelIndex& v) const {
-        return (static_cast<std::size_t>(v.z) * ny_ + v.y) * nx_ + v.x;
+        return latticeIndex(static_cast<std::size_t>(v.x), static_cast<std::size_t>(v.y), static_cast<std::size_t>(v.z),
+                            static_cast<std::size_t>(nx_), static_cast<std::size_t>(ny_));
     }
     [[nodiscard]] VoxelIndex fromLinear(std::size_t i) const;
 
