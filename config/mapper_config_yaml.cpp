@@ -55,6 +55,7 @@ DaemonConfig parse(const YAML::Node& root) {
     Fields fls(top.child("fls"), "fls");
     config_yaml::readFlsGeometry(fls, m.fls);
     config_yaml::readMounting(fls.child("mount"), "fls.mount", m.fls_mount);
+    fls.read("max_geometries", m.fls_max_geometries);  // the mapper's, not the sonar's (not in a scenario)
     fls.rejectUnknownKeys();
     Fields ps(top.child("ps"), "ps");
     config_yaml::readPsGeometry(ps, m.ps);

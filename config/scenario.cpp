@@ -38,6 +38,20 @@ void readFls(const YAML::Node& node, Scenario& s) {
     f.read("source_level", p.source_level);
     f.read("sound_speed", p.sound_speed);
     f.read("frequency_hz", p.frequency_hz);
+    const YAML::Node windows = f.child("window_changes");
+    if (!(windows.IsNull() || !windows.IsDefined() || windows.IsSequence()))
+        throw config_yaml::KeyError("fls.window_changes", "must be a list");
+    for (std::size_t i = 0; windows.IsSequence() && i < windows.size(); ++i) {
+        const std::string path = "fls.window_changes[" + std::to_string(i) + "]";
+        Fields w(windows[i], path);
+        FlsWindowChange c;
+        c.at_sequence = w.require<int64_t>("at_sequence");
+        c.range_min = w.require<double>("range_min");
+        c.range_max = w.require<double>("range_max");
+        w.rejectUnknownKeys();
+        requireValid(c, path);
+        p.window_changes.push_back(c);
+    }
     config_yaml::readMounting(f.child("mount"), "fls.mount", s.fls_mount);
     f.rejectUnknownKeys();
     requireValid(s.fls, "fls");
@@ -233,11 +247,25 @@ Check SceneSpec::validate() const {
 }
 
 Check FlsSimParams::validate() const {
+    for (std::size_t i = 0; i < window_changes.size(); ++i) {
+        const std::string key = "window_changes[" + std::to_string(i) + "]";
+        if (Check c = window_changes[i].validate()) return c->in(key);
+        if (i > 0 && window_changes[i].at_sequence <= window_changes[i - 1].at_sequence)
+            return bad(key + ".at_sequence", "must be above the previous entry's");
+    }
     if (rays_azimuth < 1 || rays_azimuth > 64) return bad("rays_azimuth", "must be in 1..64");
     if (rays_elevation < 1 || rays_elevation > 8192) return bad("rays_elevation", "must be in 1..8192");
     if (!std::isfinite(gain_db)) return bad("gain_db", "must be a finite number");
     if (!std::isfinite(tvg_db_per_decade)) return bad("tvg_db_per_decade", "must be a finite number");
     if (!(source_level > 0.0) || !std::isfinite(source_level)) return bad("source_level", "must be > 0");
+    return std::nullopt;
+}
+
+Check FlsWindowChange::validate() const {
+    if (at_sequence < 1) return bad("at_sequence", "must be >= 1");
+    if (!std::isfinite(range_min) || range_min < 0.0) return bad("range_min", "must be finite and >= 0");
+    if (!std::isfinite(range_max) || range_max <= range_min || range_max > 1000.0)
+        return bad("range_max", "must be above range_min and <= 1000 m");
     return std::nullopt;
 }
 
@@ -336,6 +364,8 @@ Check Scenario::validate() const {
                                                     {"channels", channels.validate()}};
     for (const auto& [block, issue] : blocks)
         if (issue) return issue->in(block);
+    if (!fls_sim.window_changes.empty() && !fls.row_range.empty())
+        return bad("fls.window_changes", "needs the uniform range bins of Eq. 1 (no fls.row_range)");
     if (publishesTruth() &&
         (channels.nav_truth == channels.nav || channels.nav_truth == channels.fls || channels.nav_truth == channels.ps))
         return bad("channels.nav_truth", "must differ from the nav, fls and ps channels");

@@ -46,6 +46,15 @@ struct SceneSpec {
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `scene` block
 };
 
+// An operator's range setting: from sequence `at_sequence` on (global sequence
+// index, as trajectory.fls_every counts it), FLS frames cover range_min..range_max
+// with the same rows and beams (docs/scenario-format.md, `fls.window_changes`).
+struct FlsWindowChange {
+    int64_t at_sequence = 0;
+    double range_min = 0.0, range_max = 0.0;  // m
+    [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of one `fls.window_changes[i]` entry
+};
+
 // Simulator-only parameters of the FLS beyond the mapper's FlsGeometry.
 struct FlsSimParams {
     std::string name = "DIDSON";
@@ -56,6 +65,7 @@ struct FlsSimParams {
     double source_level = 1.0;        // I0
     double sound_speed = 1500.0;      // m/s (informational, in the message)
     double frequency_hz = 1.8e6;
+    std::vector<FlsWindowChange> window_changes;  // in increasing at_sequence; empty: the window never changes
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `fls` block
 };
 

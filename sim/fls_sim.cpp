@@ -22,7 +22,7 @@ double beamWidth(const FlsModel& m, int c) {
 }
 }  // namespace
 
-FlsSimulator::FlsSimulator(const Scene& scene, const Scenario& s)
+FlsSimulator::FlsSimulator(const Scene& scene, const Scenario& s, double level_scale)
     : scene_(scene),
       model_(s.fls),
       mount_(s.fls_mount),
@@ -33,7 +33,7 @@ FlsSimulator::FlsSimulator(const Scene& scene, const Scenario& s)
     chain_.source_level = s.fls_sim.source_level;
     chain_.tvg_exponent = s.fls_sim.tvg_db_per_decade / 10.0;
     chain_.gain = std::pow(10.0, (kFlsBaseGainDb + s.fls_sim.gain_db) / 20.0);
-    chain_.ray_weight = static_cast<double>(model_.rows()) / rays_per_beam_;
+    chain_.ray_weight = static_cast<double>(model_.rows()) / rays_per_beam_ * level_scale;
 
     // Stratified ray grid: ray centres of equal sub-cells of each beam.
     const int na = s.fls_sim.rays_azimuth, ne = s.fls_sim.rays_elevation;

@@ -27,7 +27,10 @@ struct FlsImage {
 
 class FlsSimulator {
 public:
-    FlsSimulator(const Scene& scene, const Scenario& scenario);
+    // `level_scale` multiplies the echo energy per range bin: a window change
+    // keeps the rows, so each bin spans a different range, and a real sonar's
+    // pixel level does not depend on the bin length (Simulator passes the span ratio).
+    FlsSimulator(const Scene& scene, const Scenario& scenario, double level_scale = 1.0);
 
     // One frame at a vehicle pose. `threads` workers split the beams; the
     // bytes do not depend on the thread count.

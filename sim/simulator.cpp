@@ -13,7 +13,25 @@ Simulator::Simulator(const Scenario& scenario)
       fls_(std::make_unique<FlsSimulator>(*scene_, scenario_)),
       ps_(std::make_unique<PsSimulator>(*scene_, scenario_)),
       sequences_(buildSequences(scenario_)),
-      navigation_(reportNavigation(scenario_, sequences_)) {}
+      navigation_(reportNavigation(scenario_, sequences_)) {
+    // A range window change: the same sonar (rows, beams, aperture) over
+    // another window; the level per pixel stays that of the configured window.
+    const double span = scenario_.fls.range_max - scenario_.fls.range_min;
+    for (const FlsWindowChange& w : scenario_.fls_sim.window_changes) {
+        Scenario windowed = scenario_;
+        windowed.fls.range_min = w.range_min;
+        windowed.fls.range_max = w.range_max;
+        fls_windows_.push_back(
+            std::make_unique<FlsSimulator>(*scene_, windowed, span / (w.range_max - w.range_min)));
+    }
+}
+
+const FlsSimulator& Simulator::flsAt(int64_t index) const {
+    const FlsSimulator* fls = fls_.get();
+    const auto& changes = scenario_.fls_sim.window_changes;
+    for (std::size_t i = 0; i < changes.size() && changes[i].at_sequence <= index; ++i) fls = fls_windows_[i].get();
+    return *fls;
+}
 
 double Simulator::altitudeBelow(const Pose& vehicle) const {
     // An altimeter looking straight down the body z axis; -1 when nothing is below.
@@ -36,10 +54,10 @@ void setMounting(Msg& msg, const Mounting& m, double tilt) {
 }
 }  // namespace
 
-fls_image_t Simulator::flsMessage(const SequenceState& q, const FlsImage& image) const {
+fls_image_t Simulator::flsMessage(const SequenceState& q, const FlsSimulator& fls, const FlsImage& image) const {
     const FlsGeometry& g = scenario_.fls;
     const Mounting& m = scenario_.fls_mount;
-    const FlsModel& model = fls_->model();
+    const FlsModel& model = fls.model();
     fls_image_t msg;
     msg.utime = q.utime;
     msg.seq = q.index / scenario_.trajectory.fls_every;  // frames before this one
@@ -129,7 +147,10 @@ SequenceOutput Simulator::simulate(const SequenceState& q, int threads) const {
     const int64_t fls_key = by_pose ? poseNoiseKey(q.pose, 0.0) : q.index;
     out.ps = psMessage(q, ps_->ping(q.pose, q.head_angle, ps_key));
     out.has_fls = q.has_fls;
-    if (q.has_fls) out.fls = flsMessage(q, fls_->render(q.pose, fls_key, threads));
+    if (q.has_fls) {
+        const FlsSimulator& fls = flsAt(q.index);
+        out.fls = flsMessage(q, fls, fls.render(q.pose, fls_key, threads));
+    }
     return out;
 }
 

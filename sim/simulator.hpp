@@ -41,6 +41,8 @@ public:
     [[nodiscard]] const Scenario& scenario() const { return scenario_; }
     [[nodiscard]] const Scene& scene() const { return *scene_; }
     [[nodiscard]] const FlsSimulator& fls() const { return *fls_; }
+    // The FLS as it is set at sequence `index` (fls.window_changes; fls() before the first).
+    [[nodiscard]] const FlsSimulator& flsAt(int64_t index) const;
     [[nodiscard]] const PsSimulator& ps() const { return *ps_; }
 
     // All messages of one sequence; `threads` split the FLS beams.
@@ -54,12 +56,13 @@ private:
     [[nodiscard]] double altitudeBelow(const Pose& vehicle) const;
     [[nodiscard]] nav_state_t navMessage(const SequenceState& q, const Pose& pose, const Eigen::Vector3d& velocity,
                                          double altitude) const;
-    [[nodiscard]] fls_image_t flsMessage(const SequenceState& q, const FlsImage& image) const;
+    [[nodiscard]] fls_image_t flsMessage(const SequenceState& q, const FlsSimulator& fls, const FlsImage& image) const;
     [[nodiscard]] ps_ping_t psMessage(const SequenceState& q, std::vector<uint8_t> intensity) const;
 
     Scenario scenario_;
     std::unique_ptr<Scene> scene_;
     std::unique_ptr<FlsSimulator> fls_;
+    std::vector<std::unique_ptr<FlsSimulator>> fls_windows_;  // one per fls.window_changes entry
     std::unique_ptr<PsSimulator> ps_;
     std::vector<SequenceState> sequences_;
     std::vector<NavReport> navigation_;

@@ -276,25 +276,16 @@ void MapperNode::tick(int64_t now_wall_us) {
 }
 
 bool MapperNode::flsGeometryMatches(const fls_image_t& m) const {
-    const FlsModel& model = mapper_.flsModel();
     const MapperConfig& c = cfg_.mapper;
-    // The fields the sensor model takes from the config must agree with the
-    // message (issue 10, finding 5): NaN or 0 there is a misconfigured driver.
+    // The mounting (position, roll, yaw) and the tilt are the vehicle's, from the
+    // config, and must agree with the message (issue 10, finding 5): NaN or 0
+    // there is a misconfigured driver. Ranges, bearings and the aperture are the
+    // ping's own (per-ping geometry): libfusion takes them from the frame and
+    // checks them (fls_bad_geometry).
     constexpr double kAngleTol = 0.5 * kDegToRad, kMountTol = 0.01;
-    if (!near(m.tilt, c.fls.tilt, kAngleTol) || !near(m.elevation_min, c.fls.elevation_min, kAngleTol) ||
-        !near(m.elevation_max, c.fls.elevation_max, kAngleTol) || !near(m.mount_xyz[0], c.fls_mount.x, kMountTol) ||
-        !near(m.mount_xyz[1], c.fls_mount.y, kMountTol) || !near(m.mount_xyz[2], c.fls_mount.z, kMountTol) ||
-        !near(m.mount_roll_yaw[0], c.fls_mount.roll, kAngleTol) || !near(m.mount_roll_yaw[1], c.fls_mount.yaw, kAngleTol))
-        return false;
-    if (m.num_beams != model.cols() || m.num_ranges != model.rows()) return true;  // size check is libfusion's
-    // Ranges and bearings must agree with the configured tables within a tenth of a bin/beam.
-    const double dr = std::fabs(model.rangeOfRow(0) - model.rangeOfRow(1));
-    for (int r : {0, m.num_ranges / 2, m.num_ranges - 1})
-        if (!(std::fabs(m.row_range[r] - model.rangeOfRow(r)) <= 0.1 * dr + 1e-4)) return false;
-    const double db = m.num_beams > 1 ? std::fabs(model.bearingOfColumn(1) - model.bearingOfColumn(0)) : 1.0;
-    for (int c2 : {0, m.num_beams / 2, m.num_beams - 1})
-        if (!(std::fabs(m.beam_bearing[c2] - model.bearingOfColumn(c2)) <= 0.1 * db + 1e-5)) return false;
-    return true;
+    return near(m.tilt, c.fls.tilt, kAngleTol) && near(m.mount_xyz[0], c.fls_mount.x, kMountTol) &&
+           near(m.mount_xyz[1], c.fls_mount.y, kMountTol) && near(m.mount_xyz[2], c.fls_mount.z, kMountTol) &&
+           near(m.mount_roll_yaw[0], c.fls_mount.roll, kAngleTol) && near(m.mount_roll_yaw[1], c.fls_mount.yaw, kAngleTol);
 }
 
 bool MapperNode::psGeometryMatches(const ps_ping_t& m) const {
@@ -327,6 +318,12 @@ void MapperNode::processFls(fls_image_t& m) {
     f.data = reinterpret_cast<const uint8_t*>(m.data.data());
     f.data_size = m.data.size();
     if (static_cast<int64_t>(m.data_size) != static_cast<int64_t>(m.num_ranges) * m.num_beams) f.data_size = 0;
+    // The ping's own geometry (lcm-gen sized both arrays from the counts).
+    f.row_range = m.row_range.size() == static_cast<std::size_t>(std::max(0, m.num_ranges)) ? m.row_range.data() : nullptr;
+    f.beam_bearing =
+        m.beam_bearing.size() == static_cast<std::size_t>(std::max(0, m.num_beams)) ? m.beam_bearing.data() : nullptr;
+    f.elevation_min = m.elevation_min;
+    f.elevation_max = m.elevation_max;
     // Output stamps follow data that was used: a rejected INT64_MAX stamp must
     // not stamp every later status (finding 3).
     if (mapper_.addFls(f) == Outcome::Used) newest_data_utime_ = std::max(newest_data_utime_, m.utime);

@@ -27,7 +27,7 @@ namespace sonarfusion {
 // Reasons the daemon rejects a message before libfusion sees it.
 enum class TransportReject : int {
     Malformed = 0,        // passed the guard but lcm-gen's decode refused it
-    FlsGeometryMismatch,  // bearings, ranges, tilt, aperture or mounting disagree with the config
+    FlsGeometryMismatch,  // tilt or mounting disagree with the config (ranges, bearings, aperture: libfusion's fls_bad_geometry)
     Stale,                // older than a message of its channel already processed (out of order)
     PendingOverflow,      // all waiting slots taken: one waiting message was thinned out
     PsGeometryMismatch,   // fan, tilt, mounting, range window or head angle outside the configured sonar

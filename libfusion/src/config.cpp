@@ -155,6 +155,7 @@ Check MapperConfig::validate() const {
                         std::pair{"ps_selection", ps_selection.validate()}, std::pair{"detector", detector.validate()},
                         std::pair{"segmentation", segmentation.validate()}, std::pair{"survey", survey.validate()}))
         return c;
+    if (!inRange(fls_max_geometries, 1, kMaxFlsGeometries)) return bad("fls.max_geometries", range(1, kMaxFlsGeometries));
     if (max_nav_gap_us <= 0) return bad("nav.max_gap_us", "must be > 0");
     if (!inRange(nav_buffer_capacity, 2, 1000000)) return bad("nav.buffer_capacity", range(2, 1000000));
     if (!inRange(nav_timeline_confirm, 1, kMaxNavTimelineConfirm))

@@ -16,7 +16,7 @@ void require(bool ok, const char* what) {
 }  // namespace
 
 FlsModel::FlsModel(const FlsGeometry& g)
-    : rows_(g.rows), cols_(g.beams), nv_(g.elevation_samples), tilt_(g.tilt), elevation_min_(g.elevation_min),
+    : rows_(g.rows), cols_(g.beams), nv_(g.elevation_samples), row_capacity_(g.rows), col_capacity_(g.beams), tilt_(g.tilt), elevation_min_(g.elevation_min),
       elevation_max_(g.elevation_max) {
     require(rows_ >= 2 && rows_ <= 16384, "rows must be in 2..16384");
     require(cols_ >= 1 && cols_ <= 4096, "beams must be in 1..4096");
@@ -58,16 +58,60 @@ FlsModel::FlsModel(const FlsGeometry& g)
             bearing_[c] = g.fov_horizontal * (c - cols_ / 2.0) / cols_;
     }
 
-    // Eq. 3.
     elevation_.resize(nv_);
-    for (int k = 0; k < nv_; ++k)
-        elevation_[k] = nv_ == 1 ? 0.5 * (g.elevation_min + g.elevation_max)
-                                 : g.elevation_min + k * (g.elevation_max - g.elevation_min) / (nv_ - 1);
-
-    // Eq. 4 without the range: (cos(t+phi) cos th, cos(t+phi) sin th, sin(t+phi)).
     direction_.resize(static_cast<std::size_t>(cols_) * nv_);
+    buildDirections();
+}
+
+void FlsModel::buildDirections() {
+    // Eq. 3.
+    for (int k = 0; k < nv_; ++k)
+        elevation_[k] = nv_ == 1 ? 0.5 * (elevation_min_ + elevation_max_)
+                                 : elevation_min_ + k * (elevation_max_ - elevation_min_) / (nv_ - 1);
+    // Eq. 4 without the range: (cos(t+phi) cos th, cos(t+phi) sin th, sin(t+phi)).
     for (int c = 0; c < cols_; ++c)
         for (int k = 0; k < nv_; ++k) direction_[static_cast<std::size_t>(c) * nv_ + k] = directionAt(c, elevation_[k]);
+}
+
+namespace {
+// Equal up to the rounding of a float32 message field.
+bool sameRange(double a, double b) { return std::fabs(a - b) <= 1e-5 * std::max(1.0, std::fabs(b)); }
+bool sameAngle(double a, double b) { return std::fabs(a - b) <= 1e-6; }
+}  // namespace
+
+bool FlsModel::sameGeometry(const FlsFrame& f) const {
+    if (f.rows != rows_ || f.cols != cols_ || !f.row_range || !f.beam_bearing) return false;
+    if (!sameAngle(f.elevation_min, elevation_min_) || !sameAngle(f.elevation_max, elevation_max_)) return false;
+    // The ends first: a changed window or beam set differs there.
+    if (!sameRange(f.row_range[0], range_[0]) || !sameRange(f.row_range[rows_ - 1], range_[rows_ - 1]) ||
+        !sameAngle(f.beam_bearing[0], bearing_[0]) || !sameAngle(f.beam_bearing[cols_ - 1], bearing_[cols_ - 1]))
+        return false;
+    for (int r = 0; r < rows_; ++r)
+        if (!sameRange(f.row_range[r], range_[r])) return false;
+    for (int c = 0; c < cols_; ++c)
+        if (!sameAngle(f.beam_bearing[c], bearing_[c])) return false;
+    return true;
+}
+
+bool FlsModel::assign(const FlsFrame& f) {
+    if (!f.row_range || !f.beam_bearing || f.rows < 2 || f.cols < 1 || f.rows > row_capacity_ ||
+        f.cols > col_capacity_)
+        return false;
+    rows_ = f.rows;
+    cols_ = f.cols;
+    range_.resize(rows_);  // within the capacity reserved at construction: no allocation
+    bearing_.resize(cols_);
+    direction_.resize(static_cast<std::size_t>(cols_) * nv_);
+    range_max_ = 0.0;
+    for (int r = 0; r < rows_; ++r) {
+        range_[r] = f.row_range[r];
+        range_max_ = std::max(range_max_, range_[r]);
+    }
+    for (int c = 0; c < cols_; ++c) bearing_[c] = f.beam_bearing[c];
+    elevation_min_ = f.elevation_min;
+    elevation_max_ = f.elevation_max;
+    buildDirections();
+    return true;
 }
 
 Eigen::Vector3f FlsModel::directionAt(int col, double elevation) const {

@@ -6,32 +6,26 @@
 namespace sonarfusion {
 
 FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map)
-    : model_(model), cfg_(cfg),
-      increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
-      free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free) * cfg.alpha_fls)) {
+    : FlsUpdater(model, cfg, map, 1, 0) {}
+
+FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map, int geometries,
+                       int max_arc_samples)
+    : cfg_(cfg), increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
+      free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free) * cfg.alpha_fls)),
+      geo_(static_cast<std::size_t>(std::max(1, geometries))),
+      max_arc_samples_(std::max(max_arc_samples, model.elevationSamples())) {
     if (cfg.fls_arc_spacing_voxels > 0.0) arc_spacing_ = cfg.fls_arc_spacing_voxels * map.resolution();
-    table_samples_ = arcSamples(model.rangeMax());
-    // One direction table per arc length n = N_v .. table_samples_, each with
-    // n evenly spaced elevations, so every range gets exactly the samples it
-    // needs (a subset of one finer table leaves gaps).
-    const int nv = model.elevationSamples();
-    table_offset_.assign(table_samples_ + 1, 0);
-    std::size_t total = 0;
-    for (int n = nv; n <= table_samples_; ++n) {
-        table_offset_[n] = total;
-        total += static_cast<std::size_t>(model.cols()) * n;
+    buildTables(geo_[0], model);
+    std::size_t world = geo_[0].sensor_direction.size();
+    // The other slots: capacity for the largest geometry they may be bound to.
+    const std::size_t capacity = tableSize(model.colCapacity(), model.elevationSamples(), max_arc_samples_);
+    for (std::size_t i = 1; i < geo_.size(); ++i) {
+        geo_[i].table_offset.reserve(static_cast<std::size_t>(max_arc_samples_) + 1);
+        geo_[i].row_samples.reserve(static_cast<std::size_t>(model.rowCapacity()));
+        geo_[i].sensor_direction.reserve(capacity);
+        world = std::max(world, capacity);
     }
-    sensor_direction_.resize(total);
-    const double lo = model.elevationMin(), hi = model.elevationMax();
-    for (int n = nv; n <= table_samples_; ++n)
-        for (int c = 0; c < model.cols(); ++c)
-            for (int k = 0; k < n; ++k)
-                sensor_direction_[table_offset_[n] + static_cast<std::size_t>(c) * n + k] =
-                    n == nv && !(arc_spacing_ > 0.0) ? model.direction(c, k)  // Eq. 3 exactly
-                                                     : model.directionAt(c, n == 1 ? 0.5 * (lo + hi) : lo + k * (hi - lo) / (n - 1));
-    row_samples_.resize(model.rows());
-    for (int r = 0; r < model.rows(); ++r) row_samples_[r] = arcSamples(model.rangeOfRow(r));
-    world_direction_.resize(sensor_direction_.size());
+    world_direction_.resize(world);
     if (cfg_.fls_once_per_frame || cfg_.fls_free_space) {
         slot_.assign(map.size(), 0u);
         touched_.resize(map.size());
@@ -39,11 +33,60 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
     }
 }
 
+std::size_t FlsUpdater::tableSize(int cols, int nv, int samples) {
+    std::size_t total = 0;
+    for (int n = nv; n <= samples; ++n) total += static_cast<std::size_t>(cols) * n;
+    return total;
+}
+
+void FlsUpdater::buildTables(Geometry& g, const FlsModel& model) const {
+    g.model = &model;
+    g.table_samples = arcSamplesFor(model.rangeMax(), model.elevationMax() - model.elevationMin(),
+                                    model.elevationSamples(), arc_spacing_);
+    // One direction table per arc length n = N_v .. table_samples, each with
+    // n evenly spaced elevations, so every range gets exactly the samples it
+    // needs (a subset of one finer table leaves gaps).
+    const int nv = model.elevationSamples();
+    g.table_offset.assign(static_cast<std::size_t>(g.table_samples) + 1, 0);
+    std::size_t total = 0;
+    for (int n = nv; n <= g.table_samples; ++n) {
+        g.table_offset[n] = total;
+        total += static_cast<std::size_t>(model.cols()) * n;
+    }
+    g.sensor_direction.resize(total);
+    const double lo = model.elevationMin(), hi = model.elevationMax();
+    for (int n = nv; n <= g.table_samples; ++n)
+        for (int c = 0; c < model.cols(); ++c)
+            for (int k = 0; k < n; ++k)
+                g.sensor_direction[g.table_offset[n] + static_cast<std::size_t>(c) * n + k] =
+                    n == nv && !(arc_spacing_ > 0.0) ? model.direction(c, k)  // Eq. 3 exactly
+                                                     : model.directionAt(c, n == 1 ? 0.5 * (lo + hi) : lo + k * (hi - lo) / (n - 1));
+    g.row_samples.resize(static_cast<std::size_t>(model.rows()));
+    for (int r = 0; r < model.rows(); ++r)
+        g.row_samples[r] = arcSamplesFor(model.rangeOfRow(r), hi - lo, nv, arc_spacing_);
+}
+
+bool FlsUpdater::bind(int geometry, const FlsModel& model) {
+    if (geometry < 1 || geometry >= geometries()) return false;
+    const int samples = arcSamplesFor(model.rangeMax(), model.elevationMax() - model.elevationMin(),
+                                      model.elevationSamples(), arc_spacing_);
+    Geometry& g = geo_[static_cast<std::size_t>(geometry)];
+    if (samples > max_arc_samples_ || model.rows() > static_cast<int>(g.row_samples.capacity()) ||
+        tableSize(model.cols(), model.elevationSamples(), samples) > g.sensor_direction.capacity())
+        return false;
+    buildTables(g, model);
+    return true;
+}
+
+int FlsUpdater::arcSamplesFor(double range, double aperture, int nv, double spacing) {
+    if (!(spacing > 0.0)) return nv;
+    const double arc = std::max(0.0, range) * aperture;
+    return std::max(nv, static_cast<int>(std::ceil(arc / spacing)) + 1);
+}
+
 int FlsUpdater::arcSamples(double range) const {
-    const int nv = model_.elevationSamples();
-    if (!(arc_spacing_ > 0.0)) return nv;
-    const double arc = std::max(0.0, range) * (model_.elevationMax() - model_.elevationMin());
-    return std::max(nv, static_cast<int>(std::ceil(arc / arc_spacing_)) + 1);
+    const FlsModel& m = *geo_[current_].model;
+    return arcSamplesFor(range, m.elevationMax() - m.elevationMin(), m.elevationSamples(), arc_spacing_);
 }
 
 int64_t FlsUpdater::voxelOf(const Eigen::Vector3f& p, int nx, int ny, int nz) {

@@ -21,6 +21,8 @@ std::string_view outcomeName(Outcome o) {
         case Outcome::PsBadGeometry: return "ps_bad_geometry";
         case Outcome::PsNoEcho: return "ps_no_echo";
         case Outcome::NavTimeJump: return "nav_time_jump";
+        case Outcome::FlsBadGeometry: return "fls_bad_geometry";
+        case Outcome::FlsGeometryNotCached: return "fls_geometry_not_cached";
         case Outcome::kCount: break;
     }
     return "unknown";
@@ -32,12 +34,38 @@ std::string validateConfig(const MapperConfig& cfg) {
     return issue ? issue->message() : std::string();
 }
 
+namespace {
+// Per-ping FLS geometry: a frame's window may reach one configured bin past the
+// configured maximum range, its aperture this far past each configured limit.
+constexpr double kFlsApertureTol = 0.5 * kDegToRad;
+double flsRangeTolerance(const FlsModel& m) {
+    return (m.rangeMax() - m.rangeOfRow(m.rows() - 1)) / (m.rows() - 1);
+}
+// Samples of the longest arc any accepted geometry has (capacity of the cache's tables).
+int flsMaxArcSamples(const MapperConfig& cfg, const FlsModel& m) {
+    const double spacing = cfg.update.fls_arc_spacing_voxels > 0.0 ? cfg.update.fls_arc_spacing_voxels * cfg.map.resolution : 0.0;
+    return FlsUpdater::arcSamplesFor(m.rangeMax() + flsRangeTolerance(m),
+                                     cfg.fls.elevation_max - cfg.fls.elevation_min + 2.0 * kFlsApertureTol,
+                                     cfg.fls.elevation_samples, spacing) + 1;  // + 1: rounding
+}
+}  // namespace
+
 std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
     // Per voxel (docs/algorithm.md, "Memory"): 5 B map, 13 B FLS frame scratch,
     // 10 B segmentation; plus the FLS direction tables and the fixed rings.
     const double voxels = static_cast<double>(cfg.map.nx) * cfg.map.ny * cfg.map.nz;
     const double columns = static_cast<double>(cfg.map.nx + 1) * (cfg.map.ny + 1);
-    const double fls = static_cast<double>(cfg.fls.beams) * cfg.fls.rows * 8.0 + (1 << 20);
+    // The FLS arc tables, per cached geometry (fls.max_geometries) plus their
+    // rotated copy: beams x (sum of n over the arc lengths n) unit vectors each.
+    const double spacing = cfg.update.fls_arc_spacing_voxels > 0.0 ? cfg.update.fls_arc_spacing_voxels * cfg.map.resolution : 0.0;
+    const double n_max = FlsUpdater::arcSamplesFor(cfg.fls.range_max * 1.01 + 1.0,
+                                                   cfg.fls.elevation_max - cfg.fls.elevation_min + 2.0 * kFlsApertureTol,
+                                                   cfg.fls.elevation_samples, spacing) + 1.0;
+    const double arc_vectors = static_cast<double>(cfg.fls.beams) * 0.5 * n_max * (n_max + 1.0);
+    const double fls = static_cast<double>(cfg.fls.beams) * cfg.fls.rows * 8.0 + (1 << 20) +
+                       arc_vectors * 12.0 * (cfg.fls_max_geometries + 1) +
+                       (cfg.fls_max_geometries - 1) * (static_cast<double>(cfg.fls.rows + cfg.fls.beams) * 8.0 +
+                                                       static_cast<double>(cfg.fls.beams) * cfg.fls.elevation_samples * 12.0);
     const double bytes = voxels * (23.0 + 5.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
                          (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0 +
                          cfg.survey.published_capacity * 48.0;
@@ -63,10 +91,15 @@ Mapper::Mapper(const MapperConfig& cfg)
       release_margin_(cfg.survey.release_margin >= 0.0 ? cfg.survey.release_margin
                                                        : std::max(cfg.fls.range_max, cfg.ps.range_max)),
       published_(static_cast<std::size_t>(cfg.survey.published_capacity)), fls_model_(cfg.fls), ps_model_(cfg.ps),
-      fls_updater_(fls_model_, cfg.update, maps_.front()), ps_carver_(ps_model_, cfg.update),
+      fls_updater_(fls_model_, cfg.update, maps_.front(), cfg.fls_max_geometries, flsMaxArcSamples(cfg, fls_model_)),
+      ps_carver_(ps_model_, cfg.update),
       detector_(cfg.detector), segmenter_(cfg.segmentation, cfg.update.require_ps_observation, maps_.front()),
       nav_(cfg.nav_buffer_capacity, cfg.max_nav_gap_us) {
     finalised_.reserve(static_cast<std::size_t>(cfg.segmentation.max_objects));
+    // The per-ping geometry slots, each with the configured sonar's capacity.
+    fls_models_.reserve(static_cast<std::size_t>(cfg.fls_max_geometries - 1));
+    for (int i = 1; i < cfg.fls_max_geometries; ++i) fls_models_.emplace_back(cfg.fls);
+    fls_geometry_used_.assign(static_cast<std::size_t>(cfg.fls_max_geometries), 0);
 }
 
 Outcome Mapper::count(Outcome o) {
@@ -214,23 +247,87 @@ std::optional<int64_t> Mapper::newestNavUtime() const {
     return nav_.newest().utime;
 }
 
+Outcome Mapper::checkFlsGeometry(const FlsFrame& f) const {
+    if (f.data == nullptr || f.rows < 2 || f.cols < 1 || f.rows > fls_model_.rowCapacity() ||
+        f.cols > fls_model_.colCapacity() ||
+        f.data_size != static_cast<std::size_t>(f.rows) * static_cast<std::size_t>(f.cols))
+        return Outcome::FlsSizeMismatch;
+    if (f.row_range == nullptr || f.beam_bearing == nullptr) return Outcome::FlsBadGeometry;
+    // The aperture and the range window may be narrower than the configured
+    // sonar's (a range setting, a zoom), never wider: the tables are sized for it.
+    if (!(std::isfinite(f.elevation_min) && std::isfinite(f.elevation_max) && f.elevation_min < f.elevation_max &&
+          f.elevation_min >= cfg_.fls.elevation_min - kFlsApertureTol &&
+          f.elevation_max <= cfg_.fls.elevation_max + kFlsApertureTol))
+        return Outcome::FlsBadGeometry;
+    const double range_limit = fls_model_.rangeMax() + flsRangeTolerance(fls_model_);
+    // Row 0 farthest: strictly decreasing ranges, finite, >= 0.
+    if (!(std::isfinite(f.row_range[0]) && f.row_range[0] <= range_limit)) return Outcome::FlsBadGeometry;
+    for (int r = 1; r < f.rows; ++r)
+        if (!(std::isfinite(f.row_range[r]) && f.row_range[r] < f.row_range[r - 1])) return Outcome::FlsBadGeometry;
+    if (!(f.row_range[f.rows - 1] >= 0.0f)) return Outcome::FlsBadGeometry;
+    // Column 0 port-most: strictly increasing bearings, forward of the sonar.
+    for (int c = 0; c < f.cols; ++c)
+        if (!(std::isfinite(f.beam_bearing[c]) && std::fabs(f.beam_bearing[c]) <= 0.5 * M_PI &&
+              (c == 0 || f.beam_bearing[c] > f.beam_bearing[c - 1])))
+            return Outcome::FlsBadGeometry;
+    return Outcome::Used;
+}
+
+int Mapper::flsGeometrySlot(const FlsFrame& frame) {
+    const int slots = fls_updater_.geometries();
+    int victim = -1;
+    for (int i = 1; i < slots; ++i) {
+        int64_t& used = fls_geometry_used_[static_cast<std::size_t>(i)];
+        if (used != 0 && fls_models_[static_cast<std::size_t>(i) - 1].sameGeometry(frame)) {
+            used = ++fls_geometry_tick_;
+            return i;
+        }
+        // An empty slot first, else the least recently used.
+        if (victim < 0 || used < fls_geometry_used_[static_cast<std::size_t>(victim)]) victim = i;
+    }
+    if (victim < 0) return -1;
+    int64_t& used = fls_geometry_used_[static_cast<std::size_t>(victim)];
+    if (used != 0) ++counters_.fls_geometry_evictions;
+    used = 0;
+    FlsModel& model = fls_models_[static_cast<std::size_t>(victim) - 1];
+    if (!model.assign(frame) || !fls_updater_.bind(victim, model)) return -2;
+    ++counters_.fls_geometry_builds;
+    used = ++fls_geometry_tick_;
+    return victim;
+}
+
 Outcome Mapper::addFls(const FlsFrame& frame) {
     ++counters_.fls_in;
-    if (!fls_model_.frameMatches(frame)) return count(Outcome::FlsSizeMismatch);
+    if (frame.hasGeometry()) {
+        if (Outcome o = checkFlsGeometry(frame); o != Outcome::Used) return count(o);
+    } else if (!fls_model_.frameMatches(frame)) {
+        return count(Outcome::FlsSizeMismatch);
+    }
     if (!cfg_.update.fls_enabled) return count(Outcome::FlsDisabled);
     Pose pose;
     if (Outcome o = lookupPose(frame.utime, pose); o != Outcome::Used) return count(o);
     const Eigen::Isometry3d world_from_sensor = sensorToWorld(pose, cfg_.fls_mount);
     bool any = false;
+    for (int s = 0; s < slotCount() && !any; ++s) any = updatable(s);
+    if (!any) return count(Outcome::FlsBeforeMap);
+    // The frame's geometry: the configured one (no geometry given, or the same),
+    // else a cached one (tables computed once per geometry, LRU).
+    int geometry = 0;
+    double range_max = cfg_.fls.range_max;
+    if (frame.hasGeometry() && !fls_model_.sameGeometry(frame)) {
+        geometry = flsGeometrySlot(frame);
+        if (geometry == -1) return count(Outcome::FlsGeometryNotCached);
+        if (geometry < 0) return count(Outcome::FlsBadGeometry);
+        range_max = fls_models_[static_cast<std::size_t>(geometry) - 1].rangeMax();
+    }
+    fls_updater_.select(geometry);
     for (int s = 0; s < slotCount(); ++s) {
         if (!updatable(s)) continue;
-        any = true;
-        if (!reaches(s, world_from_sensor.translation(), cfg_.fls.range_max)) continue;
+        if (!reaches(s, world_from_sensor.translation(), range_max)) continue;
         const FlsUpdateStats st = fls_updater_.apply(frame, world_from_sensor, maps_[static_cast<std::size_t>(s)]);
         counters_.fls_points_outside_map += st.points_outside_map;
         if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
     }
-    if (!any) return count(Outcome::FlsBeforeMap);
     ++counters_.fls_used;
     return count(Outcome::Used);
 }

@@ -64,6 +64,8 @@ const BadFile kBadFiles[] = {
     {"Nav_max_gap0", "nav: {max_gap_us: 0}", "nav.max_gap_us"},
     {"Nav_confirm0", "nav: {timeline_confirm: 0}", "nav.timeline_confirm"},
     {"Survey_max_maps0", "survey: {max_maps: 0}", "survey.max_maps"},
+    {"Fls_max_geometries0", "fls: {max_geometries: 0}", "fls.max_geometries"},
+    {"Fls_max_geometries65", "fls: {max_geometries: 65}", "fls.max_geometries"},
     {"Survey_release_margin_inf", "survey: {release_margin: .inf}", "survey.release_margin"},
     // DaemonConfig
     {"Daemon_queue0", "daemon: {queue_capacity: 0}", "daemon.queue_capacity"},

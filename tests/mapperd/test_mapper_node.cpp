@@ -143,15 +143,26 @@ TEST(MapperNodeRobust, PingsAndFramesOutsideTheConfiguredSonarAreCounted) {
         f.tilt = bad;
         send(node, "FLS", f);
         f = frame(c, node.mapper().flsModel(), t++, fseq++);
-        f.elevation_max = bad;
-        send(node, "FLS", f);
-        f = frame(c, node.mapper().flsModel(), t++, fseq++);
         f.mount_xyz[2] = std::isnan(bad) ? bad : 0.5f;
         send(node, "FLS", f);
     }
+    // The ping's own ranges, bearings and aperture (per-ping geometry, issue 14)
+    // are libfusion's to check: NaN, or a window longer than the configured
+    // sonar's, is fls_bad_geometry; a narrower aperture is a setting.
+    fls_image_t f = frame(c, node.mapper().flsModel(), t++, fseq++);
+    f.elevation_max = std::numeric_limits<float>::quiet_NaN();
+    send(node, "FLS", f);
+    f = frame(c, node.mapper().flsModel(), t++, fseq++);
+    f.row_range[0] = 12.0f;
+    send(node, "FLS", f);
+    f = frame(c, node.mapper().flsModel(), t++, fseq++);
+    f.elevation_max = 0.0f;
+    send(node, "FLS", f);
     node.flush(true);
     EXPECT_EQ(node.transportRejects(TransportReject::PsGeometryMismatch), 3);
-    EXPECT_EQ(node.transportRejects(TransportReject::FlsGeometryMismatch), 6);
+    EXPECT_EQ(node.transportRejects(TransportReject::FlsGeometryMismatch), 4);
+    EXPECT_EQ(outcome(node, Outcome::FlsBadGeometry), 2);
+    EXPECT_EQ(outcome(node, Outcome::FlsBeforeMap), 1);
     EXPECT_EQ(node.mapper().counters().ps_in, 1);
     EXPECT_FALSE(node.mapper().map().initialised());
 }

@@ -113,6 +113,64 @@ TEST(NoAllocation, ASurveyAnchoringFinalisingAndFreeingMapsAllocatesNothing) {
     EXPECT_GE(published, 2u);
 }
 
+// Per-ping FLS geometry: the range window changes mid-pass and back, with a
+// cache of two (the configured geometry and one other), so tables are rebuilt
+// and a geometry evicted, all in memory allocated at construction.
+TEST(NoAllocation, FlsGeometryChangesAndEvictionsAllocateNothing) {
+    MapperConfig cfg;
+    cfg.fls_max_geometries = 2;
+    Mapper mapper{cfg};
+    test::BoxWorld world;
+    mapper.initialiseMapAt(Eigen::Vector3d(0.0, 0.0, 19.0));
+    // Three windows: the configured 0.83-10 m, 0.83-7 m and 1-5 m, in float32 as a message carries them.
+    std::vector<FlsGeometry> windows(3);
+    windows[1].range_max = 7.0;
+    windows[2].range_min = 1.0;
+    windows[2].range_max = 5.0;
+    std::vector<std::vector<float>> ranges(3), bearings(3);
+    for (int w = 0; w < 3; ++w) {
+        const FlsModel m{windows[w]};
+        for (int r = 0; r < m.rows(); ++r) ranges[w].push_back(static_cast<float>(m.rangeOfRow(r)));
+        for (int c = 0; c < m.cols(); ++c) bearings[w].push_back(static_cast<float>(m.bearingOfColumn(c)));
+    }
+    const int steps = 120;
+    std::vector<TimedPose> navs;
+    std::vector<test::OwnedFrame> frames;
+    std::vector<int> window_of;
+    for (int i = 0; i < steps; ++i) {
+        const int64_t t = 1000000 + i * 200000LL;
+        navs.push_back(test::trackPose(t, -6.0 + 0.02 * i));
+        const int w = (i / 10) % 3;  // 10 frames per window, cycling: every change after the second evicts
+        const FlsModel m{windows[w]};
+        frames.push_back(test::simulateFrame(world, windows[w], m, navs.back().pose, t));
+        window_of.push_back(w);
+    }
+    for (int i = 0; i < steps; ++i) {
+        FlsFrame& f = frames[i].view;
+        f.data = frames[i].pixels.data();
+        f.row_range = ranges[window_of[i]].data();
+        f.beam_bearing = bearings[window_of[i]].data();
+        f.elevation_min = static_cast<float>(windows[0].elevation_min);
+        f.elevation_max = static_cast<float>(windows[0].elevation_max);
+    }
+    mapper.addNav(navs[0]);
+
+    g_allocations = 0;
+    g_counting = true;
+    int used = 0;
+    for (int i = 1; i < steps; ++i) {
+        mapper.addNav(navs[i]);
+        used += mapper.addFls(frames[i - 1].view) == Outcome::Used;
+    }
+    g_counting = false;
+
+    EXPECT_EQ(g_allocations.load(), 0);
+    EXPECT_EQ(used, steps - 1);
+    // Windows 1 and 2 share the one free slot: each change between them rebuilds.
+    EXPECT_GE(mapper.counters().fls_geometry_builds, 7);
+    EXPECT_GE(mapper.counters().fls_geometry_evictions, 6);
+}
+
 int main(int argc, char** argv) {
     ::testing::InitGoogleTest(&argc, argv);
     return RUN_ALL_TESTS();

@@ -16,6 +16,7 @@ constexpr double kDegToRad = M_PI / 180.0;
 constexpr int kMaxFlsBeams = 4096, kMaxFlsRows = 16384, kMaxPsBins = 65536, kMaxMapCells = 4096;
 constexpr int kMaxNavTimelineConfirm = 64;
 constexpr int kMaxSurveyMaps = 64;
+constexpr int kMaxFlsGeometries = 64;
 
 // A value a config struct cannot take: its key as the YAML files spell it,
 // relative to the struct's own block ("nx" in map:, "range_max" in fls:;
@@ -242,6 +243,12 @@ struct MapperConfig {
     // continuous with the one before, confirm it; until then it is a glitch
     // and the old timeline stays (issue 10, findings 3 and 4).
     int nav_timeline_confirm = 3;
+    // Per-ping FLS geometry (docs/algorithm.md, "Per-ping FLS geometry"): FLS
+    // geometries (range window, beams, aperture, as each frame carries them)
+    // whose direction tables are kept, the configured one included and never
+    // evicted; the others are replaced least recently used first. All are
+    // allocated at start-up. 1: frames of another geometry are refused.
+    int fls_max_geometries = 4;  // key fls.max_geometries
     // Every block above, keys in full ("map.nx", "nav.max_gap_us").
     [[nodiscard]] std::optional<ConfigIssue> validate() const;
 };

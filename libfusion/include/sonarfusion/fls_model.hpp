@@ -1,6 +1,8 @@
-// FLS pixel -> candidate points (paper Eqs. 1-4). The sensor geometry is fixed,
-// so ranges per row and unit directions per (column, elevation sample) are
-// tabulated once: a candidate point is range[row] * direction[col][k], no trig.
+// FLS pixel -> candidate points (paper Eqs. 1-4). Ranges per row and unit
+// directions per (column, elevation sample) are tabulated per geometry: a
+// candidate point is range[row] * direction[col][k], no trig. A frame may carry
+// its own geometry (per-ping, as fls_image_t does); the Mapper keeps the tables
+// of a few geometries (assign(), MapperConfig::fls_max_geometries).
 #pragma once
 
 #include <Eigen/Core>
@@ -19,6 +21,13 @@ struct FlsFrame {
     int cols = 0;
     const uint8_t* data = nullptr;
     std::size_t data_size = 0;
+    // Optional per-ping geometry, as fls_image_t carries it: one range per row
+    // (m, row 0 farthest), one bearing per column (rad, column 0 port-most) and
+    // the vertical aperture (rad). Null: the configured geometry (Eqs. 1-3).
+    const float* row_range = nullptr;
+    const float* beam_bearing = nullptr;
+    double elevation_min = 0.0, elevation_max = 0.0;
+    [[nodiscard]] bool hasGeometry() const { return row_range != nullptr || beam_bearing != nullptr; }
 };
 
 // The nearest row (rows count from the far end, Eq. 1) of column `col` whose
@@ -63,8 +72,22 @@ public:
     // True when the frame's size agrees with this geometry and its buffer.
     [[nodiscard]] bool frameMatches(const FlsFrame& f) const;
 
+    // Per-ping geometry (docs/algorithm.md, "Per-ping FLS geometry").
+    // True when the frame carries this model's geometry: same size, every range,
+    // bearing and aperture limit equal up to float32 rounding.
+    [[nodiscard]] bool sameGeometry(const FlsFrame& f) const;
+    // Rebuilds the tables in place from the frame's own geometry (tilt and N_v
+    // stay). False, and nothing changed, when the frame is larger than the
+    // geometry this model was constructed with (its capacity): never allocates.
+    [[nodiscard]] bool assign(const FlsFrame& f);
+    [[nodiscard]] int rowCapacity() const { return row_capacity_; }
+    [[nodiscard]] int colCapacity() const { return col_capacity_; }
+
 private:
+    void buildDirections();
+
     int rows_, cols_, nv_;
+    int row_capacity_, col_capacity_;
     double tilt_, elevation_min_, elevation_max_, range_max_ = 0.0;
     std::vector<double> range_;
     std::vector<double> bearing_;

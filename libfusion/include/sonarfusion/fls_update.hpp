@@ -28,6 +28,26 @@ class FlsUpdater {
 public:
     // Scratch for per-frame counting and the arc tables are sized here, once.
     FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map);
+    // The same with `geometries` table slots (per-ping geometry, docs/algorithm.md):
+    // slot 0 holds `model`'s tables; the others are sized for any geometry of at
+    // most model's rows and beams whose longest arc has at most
+    // `max_arc_samples` samples (arcSamplesFor), and filled by bind().
+    FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map, int geometries,
+               int max_arc_samples);
+
+    // Number of arc samples at range r for an aperture (rad): N_v, or with a
+    // spacing (m) > 0, max(N_v, ceil(r * aperture / spacing) + 1).
+    [[nodiscard]] static int arcSamplesFor(double range, double aperture, int nv, double spacing);
+    // The arc spacing in metres this updater uses (0: N_v samples).
+    [[nodiscard]] double arcSpacing() const { return arc_spacing_; }
+    [[nodiscard]] int geometries() const { return static_cast<int>(geo_.size()); }
+    // Recomputes slot `geometry`'s tables for `model` (kept by reference) within
+    // the capacity sized at construction: no allocation. False, slot unchanged,
+    // when the model does not fit.
+    [[nodiscard]] bool bind(int geometry, const FlsModel& model);
+    // The slot apply() and the table accessors below use (0 after construction).
+    void select(int geometry) { current_ = geometry; }
+    [[nodiscard]] int selected() const { return current_; }
 
     // The frame must already match the model (FlsModel::frameMatches).
     FlsUpdateStats apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map);
@@ -47,26 +67,35 @@ public:
     // Unit direction (sensor frame) of sample k of column `col` on an arc of n
     // samples (n in [N_v, arcSamples(maximum range)]), lowest elevation first.
     [[nodiscard]] const Eigen::Vector3f& arcDirection(int n, int col, int k) const {
-        return sensor_direction_[arcTableOffset(n) + static_cast<std::size_t>(col) * n + k];
+        return geo_[current_].sensor_direction[arcTableOffset(n) + static_cast<std::size_t>(col) * n + k];
     }
     // All the tables in one array, and where the table of n samples starts.
-    [[nodiscard]] const std::vector<Eigen::Vector3f>& arcDirections() const { return sensor_direction_; }
-    [[nodiscard]] std::size_t arcTableOffset(int n) const { return table_offset_[n]; }
+    [[nodiscard]] const std::vector<Eigen::Vector3f>& arcDirections() const { return geo_[current_].sensor_direction; }
+    [[nodiscard]] std::size_t arcTableOffset(int n) const { return geo_[current_].table_offset[n]; }
 
 private:
     // Voxel of a point in voxel units relative to the map corner; -1 outside (NaN too).
     [[nodiscard]] static int64_t voxelOf(const Eigen::Vector3f& p, int nx, int ny, int nz);
 
-    const FlsModel& model_;
+    // The arc tables of one geometry.
+    struct Geometry {
+        const FlsModel* model = nullptr;
+        int table_samples = 0;                         // samples of the longest arc (at the maximum range)
+        std::vector<std::size_t> table_offset;         // per arc length n: start of its table
+        std::vector<int> row_samples;                  // arc samples per row
+        std::vector<Eigen::Vector3f> sensor_direction; // every table, sensor frame
+    };
+    void buildTables(Geometry& g, const FlsModel& model) const;
+    [[nodiscard]] static std::size_t tableSize(int cols, int nv, int samples);
+
     UpdateConfig cfg_;
     float increment_;       // delta L_o * alpha_F
     float free_increment_;  // alpha_F * ln(P_f / (1 - P_f))
     double arc_spacing_ = 0.0;  // m between arc samples; 0: N_v samples
-    int table_samples_;         // samples of the longest arc (at the maximum range)
-    std::vector<std::size_t> table_offset_;         // per arc length n: start of its table
-    std::vector<int> row_samples_;                  // arc samples per row
-    std::vector<Eigen::Vector3f> sensor_direction_; // every table, sensor frame
-    std::vector<Eigen::Vector3f> world_direction_;  // the same rotated into the map frame
+    std::vector<Geometry> geo_;  // slot 0: the constructor's model
+    int current_ = 0;
+    int max_arc_samples_ = 0;    // capacity of the slots beyond 0
+    std::vector<Eigen::Vector3f> world_direction_;  // the selected tables rotated into the map frame
     std::vector<uint32_t> slot_;                    // per voxel: 1 + index into touched_, 0 = untouched
     std::vector<uint32_t> touched_;                 // voxels hit or freed in this frame
     std::vector<uint8_t> strongest_;                // strongest intensity per touched voxel, 0 = freed
@@ -77,8 +106,10 @@ template <class Sink>
 FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
                                  Sink& sink) {
     FlsUpdateStats st;
+    const Geometry& g = geo_[current_];
+    const FlsModel& model = *g.model;
     const Eigen::Matrix3f rot = world_from_sensor.linear().cast<float>();
-    for (std::size_t i = 0; i < world_direction_.size(); ++i) world_direction_[i] = rot * sensor_direction_[i];
+    for (std::size_t i = 0; i < g.sensor_direction.size(); ++i) world_direction_[i] = rot * g.sensor_direction[i];
     // Work relative to the map's min corner in voxel units: small numbers, float is exact enough.
     const float inv_res = static_cast<float>(1.0 / map.resolution());
     const Eigen::Vector3f sensor = ((world_from_sensor.translation() - map.origin()) / map.resolution()).cast<float>();
@@ -88,9 +119,9 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
 
     for (int row = 0; row < frame.rows; ++row) {
         const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
-        const float range = static_cast<float>(model_.rangeOfRow(row)) * inv_res;
-        const int n = row_samples_[row];
-        const Eigen::Vector3f* row_table = &world_direction_[table_offset_[n]];
+        const float range = static_cast<float>(model.rangeOfRow(row)) * inv_res;
+        const int n = g.row_samples[row];
+        const Eigen::Vector3f* row_table = &world_direction_[g.table_offset[n]];
         for (int col = 0; col < frame.cols; ++col) {
             const uint8_t intensity = line[col];
             if (intensity <= cfg_.fls_intensity_threshold) continue;  // paper 2.2: > 150 only
@@ -126,14 +157,14 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
         // voxel holding a point of the returning arc is carved). Voxels this
         // frame also hit keep only the hit.
         const float margin = std::sqrt(3.0f);
-        const float r_min = static_cast<float>(model_.rangeOfRow(frame.rows - 1)) * inv_res;
+        const float r_min = static_cast<float>(model.rangeOfRow(frame.rows - 1)) * inv_res;
         for (int col = 0; col < frame.cols; ++col) {
             const int first = firstReturnRow(frame, col, cfg_.fls_intensity_threshold);
             const float r_first =  // no return: all water
-                static_cast<float>(first < 0 ? model_.rangeMax() : model_.rangeOfRow(first)) * inv_res;
+                static_cast<float>(first < 0 ? model.rangeMax() : model.rangeOfRow(first)) * inv_res;
             for (float r = r_min; r < r_first - margin; r += 0.5f) {
                 const int n = arcSamples(r * map.resolution());
-                const Eigen::Vector3f* dir = &world_direction_[table_offset_[n] + static_cast<std::size_t>(col) * n];
+                const Eigen::Vector3f* dir = &world_direction_[g.table_offset[n] + static_cast<std::size_t>(col) * n];
                 for (int k = 0; k < n; ++k) {
                     const int64_t v = voxelOf(sensor + r * dir[k], nx, ny, nz);
                     if (v < 0) continue;

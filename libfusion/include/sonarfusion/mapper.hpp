@@ -36,6 +36,8 @@ enum class Outcome : int {
     PsBadGeometry,      // non-finite angle, bad range window
     PsNoEcho,           // no bin passed the selection rule
     NavTimeJump,        // NAV time jumped (ahead or back) beyond max_nav_gap_us: held until confirmed
+    FlsBadGeometry,     // per-ping geometry not finite, not ordered, or outside the configured sonar's window/aperture
+    FlsGeometryNotCached,  // fls.max_geometries 1: a geometry other than the configured one
     kCount
 };
 constexpr int kOutcomeCount = static_cast<int>(Outcome::kCount);
@@ -49,6 +51,10 @@ struct MapperCounters {
     int64_t ps_endpoints_outside_map = 0;
     int64_t map_initialisations = 0;
     int64_t nav_timeline_resets = 0;  // confirmed NAV time jumps (clock steps, long dropouts)
+    // Per-ping FLS geometry: direction tables computed for a geometry not cached,
+    // and of those, how many replaced the least recently used one.
+    int64_t fls_geometry_builds = 0;
+    int64_t fls_geometry_evictions = 0;
     // Survey mode: what became of each detection, and of the maps.
     int64_t detections = 0;
     int64_t detection_in_active_map = 0;    // inside an active map: that map maps it
@@ -133,13 +139,28 @@ public:
     [[nodiscard]] const TrackAxis& trackAxis() const { return track_axis_; }
     [[nodiscard]] const MapperCounters& counters() const { return counters_; }
     [[nodiscard]] const MapperConfig& config() const { return cfg_; }
+    // The configured FLS geometry (frames without their own geometry use it).
     [[nodiscard]] const FlsModel& flsModel() const { return fls_model_; }
+    // Per-ping geometry cache: slot 0 is the configured geometry; slots
+    // 1..fls.max_geometries-1 hold other geometries (flsGeometryModel(i) for
+    // i >= 1), empty until a frame needs one. Which slot the last used frame went to.
+    [[nodiscard]] int flsGeometrySlots() const { return fls_updater_.geometries(); }
+    [[nodiscard]] bool flsGeometryCached(int slot) const { return slot == 0 || fls_geometry_used_[static_cast<std::size_t>(slot)] != 0; }
+    [[nodiscard]] const FlsModel& flsGeometryModel(int slot) const {
+        return slot == 0 ? fls_model_ : fls_models_[static_cast<std::size_t>(slot) - 1];
+    }
+    [[nodiscard]] int lastFlsGeometrySlot() const { return fls_updater_.selected(); }
     [[nodiscard]] const PsModel& psModel() const { return ps_model_; }
 
 private:
     Outcome count(Outcome o);
     Outcome lookupPose(int64_t utime, Pose& out) const;
     void onDetection(const Eigen::Vector3d& at);
+    // Per-ping FLS geometry: Used when the frame's own geometry is sane.
+    [[nodiscard]] Outcome checkFlsGeometry(const FlsFrame& frame) const;
+    // The cache slot holding the frame's geometry, filled (LRU) when absent;
+    // -1 none (max_geometries 1), -2 it did not fit (bad geometry).
+    int flsGeometrySlot(const FlsFrame& frame);
     void markLeftMaps(const Eigen::Vector3d& vehicle);
     // Whether a sensor at `p` with this maximum range can reach the slot's map.
     [[nodiscard]] bool reaches(int slot, const Eigen::Vector3d& p, double range) const;
@@ -160,6 +181,9 @@ private:
     FlsModel fls_model_;
     PsModel ps_model_;
     FlsUpdater fls_updater_;
+    std::vector<FlsModel> fls_models_;        // geometry slots 1.. (index slot - 1), allocated here
+    std::vector<int64_t> fls_geometry_used_;  // per slot: last use (tick), 0 = empty
+    int64_t fls_geometry_tick_ = 0;
     PsCarver ps_carver_;
     ObjectDetector detector_;
     Segmenter segmenter_;
