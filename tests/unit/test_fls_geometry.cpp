@@ -277,3 +277,35 @@ TEST(FlsGeometry, MaxGeometriesIsValidatedByName) {
     many.fls_max_geometries = 64;
     EXPECT_GT(estimatedMemoryBytes(many), estimatedMemoryBytes(one) + 63u * 300000u);
 }
+
+// A beam set and row count changed too (a narrower, coarser mode of the same
+// sonar): fewer rows and beams than configured fit the cache; more do not.
+TEST(FlsGeometry, AnotherBeamSetAndRowCountAreMappedWithinTheConfiguredSize) {
+    Fixture fx{MapperConfig{}};
+    FlsGeometry mode = window(0.83, 7.0);
+    mode.beams = 48;
+    mode.rows = 256;
+    mode.fov_horizontal = 14.5 * kDegToRad;
+    const GeometryArrays g{mode};
+    test::OwnedFrame f = test::blankFrame(mode, 1000000);
+    test::setPixel(f, 50, 24, 220);
+    f.view.data = f.pixels.data();
+    g.attach(f.view);
+    EXPECT_EQ(fx.mapper.addFls(f.view), Outcome::Used);
+    EXPECT_EQ(fx.mapper.lastFlsGeometrySlot(), 1);
+    EXPECT_EQ(fx.mapper.flsGeometryModel(1).cols(), 48);
+    EXPECT_EQ(fx.mapper.flsGeometryModel(1).rows(), 256);
+    const Pose pose = *fx.mapper.navPoseAt(1000000);
+    const FlsModel m{mode};
+    VoxelIndex v;
+    ASSERT_TRUE(fx.mapper.map().worldToIndex(sensorToWorld(pose, Mounting{}) * m.pointInSensor(50, 24, 2), v));
+    EXPECT_NE(fx.mapper.map().flags(fx.mapper.map().linear(v)) & VoxelMap::kFlsTouched, 0);
+    // More beams than the configured 96: the tables are not sized for it.
+    FlsGeometry wide = window(0.83, 7.0);
+    wide.beams = 128;
+    const GeometryArrays w{wide};
+    test::OwnedFrame big = test::blankFrame(wide, 1000001);
+    big.view.data = big.pixels.data();
+    w.attach(big.view);
+    EXPECT_EQ(fx.mapper.addFls(big.view), Outcome::FlsSizeMismatch);
+}
