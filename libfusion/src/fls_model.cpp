@@ -10,7 +10,7 @@
 namespace sonarfusion {
 
 namespace {
-void require(bool ok, const char* what) {
+void require(bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument(std::string("FLS geometry: ") + what);
 }
 }  // namespace
@@ -18,8 +18,8 @@ void require(bool ok, const char* what) {
 FlsModel::FlsModel(const FlsGeometry& g)
     : rows_(g.rows), cols_(g.beams), nv_(g.elevation_samples), row_capacity_(g.rows), col_capacity_(g.beams), tilt_(g.tilt), elevation_min_(g.elevation_min),
       elevation_max_(g.elevation_max) {
-    require(rows_ >= 2 && rows_ <= 16384, "rows must be in 2..16384");
-    require(cols_ >= 1 && cols_ <= 4096, "beams must be in 1..4096");
+    require(rows_ >= 2 && rows_ <= kMaxFlsRows, "rows must be in 2.." + std::to_string(kMaxFlsRows));
+    require(cols_ >= 1 && cols_ <= kMaxFlsBeams, "beams must be in 1.." + std::to_string(kMaxFlsBeams));
     require(nv_ >= 1 && nv_ <= 256, "elevation_samples must be in 1..256");
     require(std::isfinite(g.range_min) && std::isfinite(g.range_max) && g.range_min >= 0.0 &&
                 g.range_max > g.range_min,

@@ -93,8 +93,9 @@ int64_t FlsUpdater::voxelOf(const Eigen::Vector3f& p, int nx, int ny, int nz) {
     // Bounds on the raw coordinates (NaN fails them); inside the grid they are
     // >= 0, where truncation equals floor() and is cheaper.
     if (!(p.x() >= 0.0f && p.y() >= 0.0f && p.z() >= 0.0f && p.x() < nx && p.y() < ny && p.z() < nz)) return -1;
-    return (static_cast<int64_t>(static_cast<int>(p.z())) * ny + static_cast<int>(p.y())) * nx +
-           static_cast<int>(p.x());
+    return static_cast<int64_t>(latticeIndex(static_cast<std::size_t>(p.x()), static_cast<std::size_t>(p.y()),
+                                             static_cast<std::size_t>(p.z()), static_cast<std::size_t>(nx),
+                                             static_cast<std::size_t>(ny)));
 }
 
 FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map) {
