@@ -1,5 +1,7 @@
 #include "mapper_node.hpp"
 
+#include "sonar_order.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <spdlog/spdlog.h>
@@ -246,9 +248,10 @@ void MapperNode::flushOrdered(bool force, int64_t before_epoch) {
         PendingPs* ps = oldestPending(ps_pending_, before_epoch);
         PendingFls* fls = oldestPending(fls_pending_, before_epoch);
         if (!ps && !fls) return;
-        const bool take_ps = ps && (!fls || ps->msg.utime <= fls->msg.utime);
+        const bool take_ps = ps && (!fls || sonarBefore({ps->msg.utime, SonarKind::Ps, ps->msg.seq},
+                                                          {fls->msg.utime, SonarKind::Fls, fls->msg.seq}));
         const int64_t utime = take_ps ? ps->msg.utime : fls->msg.utime;
-        if (!force && utime >= newest_nav_utime_) return;
+        if (!force && !sonarReleased(utime, newest_nav_utime_)) return;
         if (take_ps) {
             done_utime_[kPs] = ps->msg.utime, done_seq_[kPs] = ps->msg.seq;
             processPs(ps->msg);

@@ -1,6 +1,7 @@
 #include "update_stream.hpp"
 
 #include "message_convert.hpp"
+#include "sonar_order.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 #include <sonarfusion/fls_image_t.hpp>
@@ -53,30 +54,24 @@ ScenarioLog loadScenarioLog(const std::string& path, const DaemonConfig& cfg) {
         }
     }
 
-    // Sonar in the daemon's order: utime, PS before FLS at equal utime, then seq.
+    // Sonar in the daemon's order (sonar_order.hpp, the daemon's own rule).
     struct Key {
-        int64_t utime;
-        int kind;  // 0 PS, 1 FLS
-        int64_t seq;
+        SonarKey key;
         uint32_t index;
     };
     std::vector<Key> sonar;
-    for (uint32_t i = 0; i < log.ps.size(); ++i) sonar.push_back({log.ps[i].utime, 0, log.ps[i].seq, i});
-    for (uint32_t i = 0; i < log.fls.size(); ++i) sonar.push_back({log.fls[i].utime, 1, log.fls[i].seq, i});
-    std::stable_sort(sonar.begin(), sonar.end(), [](const Key& a, const Key& b) {
-        if (a.utime != b.utime) return a.utime < b.utime;
-        if (a.kind != b.kind) return a.kind < b.kind;
-        return a.seq < b.seq;
-    });
+    for (uint32_t i = 0; i < log.ps.size(); ++i) sonar.push_back({{log.ps[i].utime, SonarKind::Ps, log.ps[i].seq}, i});
+    for (uint32_t i = 0; i < log.fls.size(); ++i) sonar.push_back({{log.fls[i].utime, SonarKind::Fls, log.fls[i].seq}, i});
+    std::stable_sort(sonar.begin(), sonar.end(), [](const Key& a, const Key& b) { return sonarBefore(a.key, b.key); });
     auto emitSonar = [&](const Key& k) {
-        log.order.push_back({k.kind == 0 ? ScenarioLog::Event::Ps : ScenarioLog::Event::Fls, k.index});
+        log.order.push_back({k.key.kind == SonarKind::Ps ? ScenarioLog::Event::Ps : ScenarioLog::Event::Fls, k.index});
     };
     std::size_t next = 0;
     int64_t newest_nav = INT64_MIN;
     for (uint32_t i = 0; i < log.nav.size(); ++i) {
         log.order.push_back({ScenarioLog::Event::Nav, i});
         if (log.nav[i].pose.isFinite() && log.nav[i].utime > newest_nav) newest_nav = log.nav[i].utime;
-        while (next < sonar.size() && sonar[next].utime < newest_nav) emitSonar(sonar[next++]);
+        while (next < sonar.size() && sonarReleased(sonar[next].key.utime, newest_nav)) emitSonar(sonar[next++]);
     }
     while (next < sonar.size()) emitSonar(sonar[next++]);  // the daemon's final flush(true)
     return log;
@@ -206,10 +201,12 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
         m.end = static_cast<uint32_t>(s.updates.size());
         s.messages.push_back(m);
     }
-    if (!mapper.map().initialised() || !mapper.detector().detection())
+    if (!mapper.map().initialised())
         throw std::runtime_error("the mapper never initialised its map (no object detected): no update stream");
     s.map_origin = mapper.map().origin();
-    s.map_centre = *mapper.detector().detection();
+    // The first map's centre (the detector stays armed in survey mode, so its
+    // latest detection is not necessarily the one that anchored this map).
+    s.map_centre = mapper.map().centre();
     rec.counters = mapper.counters();
     rec.reference_log_odds = mapper.map().logOddsData();
 
