@@ -175,6 +175,7 @@ void MapperNode::onNav(const void* data, std::size_t size) {
 void MapperNode::finaliseLeftMaps() {
     for (int s = mapper_.leavingSlot(); s >= 0; s = mapper_.leavingSlot()) {
         const int id = mapper_.slot(s).id;
+        if (id == 1) first_origin_ = mapper_.slotMap(s).origin(), first_centre_ = mapper_.slotMap(s).centre();
         const std::vector<ObjectInfo>& objects = mapper_.finaliseSlot(s);
         publishObjects(id, objects);
         if (out_.finalised) out_.finalised(FinalisedMap{id, mapper_.slotMap(s), mapper_.segmenter(), objects});
@@ -445,7 +446,10 @@ const mapper_status_t& MapperNode::status() {
     s.utime = newest_data_utime_;
     s.seq = status_seq_;
     s.state = mapper_.counters().map_initialisations > 0 ? "mapping" : "idle";
-    const VoxelMap& m = mapper_.map();
+    // The first map (id 1): while it is being made, its slot; once finalised,
+    // where it was (its slot may be free or hold another map by then).
+    for (int k = 0; k < mapper_.slotCount(); ++k)
+        if (mapper_.slot(k).id == 1) first_origin_ = mapper_.slotMap(k).origin(), first_centre_ = mapper_.slotMap(k).centre();
     s.map_ids.clear();
     s.map_centre_north.clear();
     s.map_centre_east.clear();
@@ -462,8 +466,8 @@ const mapper_status_t& MapperNode::status() {
     }
     s.num_maps = static_cast<int32_t>(s.map_ids.size());
     for (int i = 0; i < 3; ++i) {
-        s.map_origin[i] = m.origin()[i];
-        s.map_centre[i] = m.centre()[i];
+        s.map_origin[i] = first_origin_[i];
+        s.map_centre[i] = first_centre_[i];
     }
     const MapperCounters& c = mapper_.counters();
     s.nav_in = c.nav_in;

@@ -163,6 +163,8 @@ private:
     int64_t newest_data_utime_ = 0;
     int64_t last_checkpoint_utime_ = INT64_MIN;
     int64_t input_position_ = 0;
+    // The first map's place, for MAPPER_STATUS (kept after it is finalised).
+    Eigen::Vector3d first_origin_ = Eigen::Vector3d::Zero(), first_centre_ = Eigen::Vector3d::Zero();
     // Outgoing messages, sized at start-up and refilled in place.
     mapper_status_t status_msg_;
     objects_t objects_msg_;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mapper_node.hpp"
@@ -11,6 +12,7 @@
 namespace sonarfusion {
 
 struct MapOutputs {
+    MapOutputs(std::string out, std::string dir) : map_out(std::move(out)), map_dir(std::move(dir)) {}
     std::string map_out;  // --map-out: the first map (the single-map run's map)
     std::string map_dir;  // --map-dir: every finalised map
     int write_failures = 0;            // a finalised map that could not be written (logged)
