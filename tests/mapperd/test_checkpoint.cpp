@@ -28,17 +28,7 @@ void stream(MapperNode& node, int from, int to) {
         n.position_ned[0] = 0.01 * i - 4.0;
         n.position_ned[2] = 20.0 - 3.12;
         send(node, "NAV", n);
-        ps_ping_t p{};
-        p.utime = t + 10000;
-        p.seq = i;
-        p.tilt = static_cast<float>(c.ps.tilt);
-        p.fan_min = static_cast<float>(c.ps.fan_min);
-        p.fan_max = static_cast<float>(c.ps.fan_max);
-        p.range_min = static_cast<float>(c.ps.range_min);
-        p.range_max = static_cast<float>(c.ps.range_max);
-        p.head_angle = static_cast<float>((i % 21 - 10) * 2.0 * kDegToRad);
-        p.num_bins = c.ps.bins;
-        p.intensity.assign(c.ps.bins, 0);
+        ps_ping_t p = sonarfusion::test::psPing(c, t + 10000, i, (i % 21 - 10) * 2.0 * kDegToRad);
         const bool rise = i > 350 && i < 450 && i % 21 > 7 && i % 21 < 13;
         const int bin = rise ? 200 : 242 + (i % 3);
         p.intensity[bin] = static_cast<int8_t>(-56);

@@ -29,16 +29,7 @@ nav_state_t nav(int64_t utime, double x, int64_t seq) {
 
 // A ping as the configured PS would send it, with one echo 4 m out.
 ps_ping_t ping(const MapperConfig& c, int64_t utime, int64_t seq) {
-    ps_ping_t p{};
-    p.utime = utime;
-    p.seq = seq;
-    p.tilt = static_cast<float>(c.ps.tilt);
-    p.fan_min = static_cast<float>(c.ps.fan_min);
-    p.fan_max = static_cast<float>(c.ps.fan_max);
-    p.range_min = static_cast<float>(c.ps.range_min);
-    p.range_max = static_cast<float>(c.ps.range_max);
-    p.num_bins = c.ps.bins;
-    p.intensity.assign(c.ps.bins, 0);
+    ps_ping_t p = sonarfusion::test::psPing(c, utime, seq);
     p.intensity[200] = static_cast<int8_t>(-56);  // 200 as a byte
     return p;
 }

@@ -36,15 +36,7 @@ void stream(MapperNode& node, int from, int to) {
         const int phase = i % 80;
         const double head = (phase < 40 ? -20 + phase : 60 - phase) * kDegToRad;
         const auto sim = sonarfusion::test::simulatePing(world, node.mapper().psModel(), pose.pose, t, head);
-        ps_ping_t p{};
-        p.utime = t + 10000;
-        p.seq = i;
-        p.tilt = static_cast<float>(c.ps.tilt);
-        p.fan_min = static_cast<float>(c.ps.fan_min);
-        p.fan_max = static_cast<float>(c.ps.fan_max);
-        p.range_min = static_cast<float>(c.ps.range_min);
-        p.range_max = static_cast<float>(c.ps.range_max);
-        p.head_angle = static_cast<float>(head);
+        ps_ping_t p = sonarfusion::test::psPing(c, t + 10000, i, head);
         p.num_bins = static_cast<int32_t>(sim.bins.size());
         p.intensity.assign(sim.bins.begin(), sim.bins.end());
         send(node, "PS", p);

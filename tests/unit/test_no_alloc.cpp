@@ -27,25 +27,43 @@ void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace sonarfusion;
 
-TEST(NoAllocation, ProcessingFramesPingsAndSegmentationAllocatesNothing) {
-    constexpr double kDeg = M_PI / 180.0;
-    Mapper mapper{MapperConfig{}};
-    test::BoxWorld world;
-    // Inputs are prepared before counting starts: only the mapper is measured.
-    const int steps = 1600;
+namespace {
+// One straight pass from x = -6 m, 5 mm per step: NAV and a PS ping (sector
+// scan -20..20 deg) every step, an FLS frame every 4th. Prepared before
+// counting starts: only the mapper is measured.
+struct Pass {
     std::vector<TimedPose> navs;
     std::vector<test::OwnedPing> pings;
     std::vector<test::OwnedFrame> frames;
+};
+template <class World>
+Pass preparePass(const World& world, const Mapper& mapper, int steps) {
+    constexpr double kDeg = M_PI / 180.0;
+    Pass pass;
     for (int i = 0; i < steps; ++i) {
         const int64_t t = 1000000 + i * 50000LL;
-        navs.push_back(test::trackPose(t, -6.0 + 0.005 * i));
+        pass.navs.push_back(test::trackPose(t, -6.0 + 0.005 * i));
         const int phase = i % 80;
-        pings.push_back(test::simulatePing(world, mapper.psModel(), navs.back().pose, t,
-                                           (phase < 40 ? -20 + phase : 60 - phase) * kDeg));
-        if (i % 4 == 0) frames.push_back(test::simulateFrame(world, mapper.config().fls, mapper.flsModel(), navs.back().pose, t));
+        pass.pings.push_back(test::simulatePing(world, mapper.psModel(), pass.navs.back().pose, t,
+                                                (phase < 40 ? -20 + phase : 60 - phase) * kDeg));
+        if (i % 4 == 0)
+            pass.frames.push_back(
+                test::simulateFrame(world, mapper.config().fls, mapper.flsModel(), pass.navs.back().pose, t));
     }
-    for (auto& p : pings) p.view.intensity = p.bins.data();  // vectors moved: re-point the views
-    for (auto& f : frames) f.view.data = f.pixels.data();
+    for (auto& p : pass.pings) p.view.intensity = p.bins.data();  // vectors moved: re-point the views
+    for (auto& f : pass.frames) f.view.data = f.pixels.data();
+    return pass;
+}
+}  // namespace
+
+TEST(NoAllocation, ProcessingFramesPingsAndSegmentationAllocatesNothing) {
+    Mapper mapper{MapperConfig{}};
+    test::BoxWorld world;
+    const int steps = 1600;
+    const Pass pass = preparePass(world, mapper, steps);
+    const auto& navs = pass.navs;
+    const auto& pings = pass.pings;
+    const auto& frames = pass.frames;
 
     g_allocations = 0;
     g_counting = true;
@@ -68,25 +86,15 @@ TEST(NoAllocation, ProcessingFramesPingsAndSegmentationAllocatesNothing) {
 // Survey mode: two boxes 25 m apart, a second map anchored, the first
 // finalised and freed on the way, all without allocating.
 TEST(NoAllocation, ASurveyAnchoringFinalisingAndFreeingMapsAllocatesNothing) {
-    constexpr double kDeg = M_PI / 180.0;
     MapperConfig cfg;
     cfg.segmentation.seabed_from_ps_echoes = false;
     Mapper mapper{cfg};
     const test::BoxesWorld world{0.0, 25.0};
     const int steps = 7400;
-    std::vector<TimedPose> navs;
-    std::vector<test::OwnedPing> pings;
-    std::vector<test::OwnedFrame> frames;
-    for (int i = 0; i < steps; ++i) {
-        const int64_t t = 1000000 + i * 50000LL;
-        navs.push_back(test::trackPose(t, -6.0 + 0.005 * i));
-        const int phase = i % 80;
-        pings.push_back(test::simulatePing(world, mapper.psModel(), navs.back().pose, t,
-                                           (phase < 40 ? -20 + phase : 60 - phase) * kDeg));
-        if (i % 4 == 0) frames.push_back(test::simulateFrame(world, cfg.fls, mapper.flsModel(), navs.back().pose, t));
-    }
-    for (auto& p : pings) p.view.intensity = p.bins.data();
-    for (auto& f : frames) f.view.data = f.pixels.data();
+    const Pass pass = preparePass(world, mapper, steps);
+    const auto& navs = pass.navs;
+    const auto& pings = pass.pings;
+    const auto& frames = pass.frames;
 
     std::size_t published = 0;
     auto finaliseLeft = [&] {
