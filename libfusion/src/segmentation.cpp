@@ -31,6 +31,10 @@ Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation,
     sat_sum_.assign(static_cast<std::size_t>(nx_ + 1) * (ny_ + 1), 0.0);
     sat_cnt_.assign(sat_sum_.size(), 0.0);
     if (cfg.seabed_from_ps_echoes) sat_plane_.assign(9 * sat_sum_.size(), 0.0);
+    if (cfg.seabed_from_ps_echoes && cfg.seabed_from_lower_envelope) {
+        eroded_.assign(cols, kNaN);
+        scratch_.assign(cols, kNaN);
+    }
     objects_.reserve(cfg.max_objects);
 }
 
@@ -79,6 +83,51 @@ void Segmenter::echoSurfaces(const VoxelMap& map) {
         }
         surface_[col] = n > 0 ? map.origin().z() + (sum / n - 0.5) * res : kNaN;
     }
+}
+
+namespace {
+// One separable pass of a square-window extreme over the known values (NaN:
+// none): out[col] = the deepest (deepest = true) or shallowest value within
+// `half` columns along x, then along y (through tmp). NaN where the window
+// holds no value.
+void windowExtreme(const std::vector<double>& in, std::vector<double>& tmp, std::vector<double>& out, int nx, int ny,
+                   int half, bool deepest) {
+    auto better = [deepest](double a, double b) { return std::isnan(b) || (deepest ? a > b : a < b); };
+    for (int iy = 0; iy < ny; ++iy)
+        for (int ix = 0; ix < nx; ++ix) {
+            double v = kNaN;
+            for (int x = std::max(0, ix - half); x <= std::min(nx - 1, ix + half); ++x) {
+                const double s = in[static_cast<std::size_t>(iy) * nx + x];
+                if (!std::isnan(s) && better(s, v)) v = s;
+            }
+            tmp[static_cast<std::size_t>(iy) * nx + ix] = v;
+        }
+    for (int iy = 0; iy < ny; ++iy)
+        for (int ix = 0; ix < nx; ++ix) {
+            double v = kNaN;
+            for (int y = std::max(0, iy - half); y <= std::min(ny - 1, iy + half); ++y) {
+                const double s = tmp[static_cast<std::size_t>(y) * nx + ix];
+                if (!std::isnan(s) && better(s, v)) v = s;
+            }
+            out[static_cast<std::size_t>(iy) * nx + ix] = v;
+        }
+}
+}  // namespace
+
+// The lower envelope of the column surfaces, as the first baseline: a
+// morphological opening (the deepest surface within the window, then the
+// shallowest of those within the window), both taken at the columns that hold
+// a surface only. It removes whatever is narrower than the window and stands
+// above the seabed, follows a plane exactly, and keeps a single low outlier to
+// its own column (an opening never widens a pit). The ground filters of
+// airborne lidar start the same way (Zhang et al. 2003, progressive
+// morphological filter).
+void Segmenter::lowerEnvelope(const VoxelMap& map) {
+    const int half = std::max(1, static_cast<int>(std::lround(0.5 * cfg_.baseline_window / map.resolution())));
+    windowExtreme(surface_, scratch_, eroded_, nx_, ny_, half, true);
+    for (std::size_t col = 0; col < surface_.size(); ++col)
+        if (std::isnan(surface_[col])) eroded_[col] = kNaN;
+    windowExtreme(eroded_, scratch_, baseline_, nx_, ny_, half, false);
 }
 
 // The seabed under each column: a plane fitted by least squares to the column
@@ -378,7 +427,13 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
         // previous one found raised, so the plane settles on the seabed around
         // an object instead of on a blend of both (two passes left the lowest
         // 0.3 m of the 2 m slope boxes below a lifted baseline).
-        fitBaselinePlanes(map, false);
+        // The first exclusion is against the lower envelope: a plane through
+        // every column tilts onto the top of an object whose seabed was echoed
+        // on one side only (a single pass; the seabed behind it in its shadow)
+        // and keeps it there through every later pass (survey_field's box:
+        // its middle 0.8 m fell below such a baseline).
+        if (cfg_.seabed_from_lower_envelope) lowerEnvelope(map);
+        fitBaselinePlanes(map, cfg_.seabed_from_lower_envelope);
         for (int pass = 0; pass < 3; ++pass) fitBaselinePlanes(map, true);
     } else {
         columnSurfaces(map);  // no PS echo (fls_only): the occupied surface

@@ -342,3 +342,59 @@ TEST(SegmentationEchoField, EchoThresholdScalesWithPingDensity) {
     EXPECT_EQ(found[0], found[1]);
     EXPECT_NEAR(threshold[1], 4 * threshold[0], 3);  // ceil() rounds each
 }
+
+TEST(SegmentationEchoField, ObjectFillingASinglePassSwathDoesNotLiftTheSeabed) {
+    // survey_field's box, flown over once: a 2 m long block as wide as the PS
+    // swath and 1 m tall, its top echoed, the seabed echoed in front of it
+    // and, past a 1 m shadow, behind it. In the 3 m window around the block's
+    // middle nearly every echoed column is its top, and a plane through all
+    // of them tilts onto the top; the lower envelope starts below it.
+    auto build = [](VoxelMap& m) {
+        m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // origin z 15, seabed top at layer 80
+        for (int iy = 40; iy < 60; ++iy)                   // the PS swath
+            for (int ix = 0; ix < 100; ++ix) {
+                for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+                const bool block = ix >= 30 && ix < 50;
+                if (block) {
+                    for (int iz = 70; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+                    for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 70}));
+                } else if (ix < 20 || ix >= 50) {  // x 20..29: the shadow
+                    for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
+                }
+            }
+    };
+    VoxelMap m{MapConfig{}};
+    build(m);
+    Segmenter seg(SegmentationConfig{}, true, m);
+    seg.run(m);
+    ASSERT_EQ(seg.stats().objects, 1);
+    EXPECT_NEAR(seg.seabedDepth(40, 50), 23.0, 0.06);  // layer 80's top face
+    EXPECT_EQ(seg.objects()[0].voxel_count, 20 * 20 * 10);
+    EXPECT_NEAR(seg.objects()[0].height_m, 1.0, 0.06);
+
+    // The old start (a plane through every column) is trapped on the top.
+    SegmentationConfig plane_start;
+    plane_start.seabed_from_lower_envelope = false;
+    Segmenter old(plane_start, true, m);
+    old.run(m);
+    EXPECT_LT(old.seabedDepth(40, 50), 22.5);
+    int old_voxels = 0;
+    for (const ObjectInfo& o : old.objects()) old_voxels += o.voxel_count;
+    EXPECT_LT(old_voxels, 20 * 20 * 10 / 2);
+}
+
+TEST(SegmentationEchoField, LowerEnvelopeKeepsALowOutlierToItsOwnColumn) {
+    // One column echoing 1 m below a flat seabed (a multipath echo) must not
+    // pull the seabed down around it: the opening never widens a pit.
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));
+    for (int iy = 40; iy < 60; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, ix == 50 && iy == 50 ? 90 : 80}));
+        }
+    Segmenter seg(SegmentationConfig{}, true, m);
+    seg.run(m);
+    EXPECT_EQ(seg.stats().objects, 0);
+    for (int ix : {40, 49, 51, 60}) EXPECT_NEAR(seg.seabedDepth(ix, 50), 23.0, 0.06) << "column x " << ix;
+}

@@ -194,6 +194,12 @@ struct SegmentationConfig {
     // looks down at 20-60 deg and never sees under an object's top edge or the
     // lower flanks of a rounded body, while the FLS does.
     bool fill_below_objects = true;
+    // With seabed_from_ps_echoes: the seabed fit starts from the lower
+    // envelope of the echo height field (a morphological opening over
+    // baseline_window) instead of a plane through every column, so an object
+    // that fills most of the window (a single pass, its shadow unechoed) is
+    // left out from the first pass instead of tilting the plane onto its top.
+    bool seabed_from_lower_envelope = true;
     // PS confirmation (docs/design.md, "Completion and segmentation"), where the variant requires it: a voxel is
     // confirmed when a PS echo (the end point of Eq. 11) fell within this many
     // voxels of it (Chebyshev distance). A ray that merely crosses a voxel is

@@ -60,6 +60,7 @@ private:
     void echoSurfaces(const VoxelMap& map);
     [[nodiscard]] bool usableSurface(std::size_t col, bool exclude_raised) const;
     void fitBaselinePlanes(const VoxelMap& map, bool exclude_raised);
+    void lowerEnvelope(const VoxelMap& map);
     void smoothBaseline(const VoxelMap& map, bool exclude_raised);
     void smoothBaselineAlongTrack(int half, bool exclude_raised);
     void markConfirmed(const VoxelMap& map);
@@ -78,6 +79,7 @@ private:
     std::vector<double> baseline_;       // per column: smoothed seabed depth
     std::vector<double> sat_sum_, sat_cnt_;  // summed-area tables, (nx+1)*(ny+1)
     std::vector<double> sat_plane_;          // 9 summed-area tables for local plane fits
+    std::vector<double> eroded_, scratch_;   // per column, for the lower envelope
     std::vector<ObjectInfo> objects_;    // capacity max_objects
     SegmentationStats stats_;
     Eigen::Vector2d along_track_ = Eigen::Vector2d::Zero();  // unit (north, east), or zero
