@@ -86,31 +86,32 @@ void Segmenter::echoSurfaces(const VoxelMap& map) {
 }
 
 namespace {
-// One separable pass of a square-window extreme over the known values (NaN:
-// none): out[col] = the deepest (deepest = true) or shallowest value within
-// `half` columns along x, then along y (through tmp). NaN where the window
-// holds no value.
+// One pass of a sliding-window extreme over the known values (NaN: none), along
+// x (step 1, lines of nx) or along y (step nx, lines of ny): out = the deepest
+// (deepest = true) or shallowest value within `half` cells; NaN where the
+// window holds none.
+void lineExtreme(const std::vector<double>& in, std::vector<double>& out, int nx, int ny, int half, bool deepest,
+                 bool along_y) {
+    const int len = along_y ? ny : nx, lines = along_y ? nx : ny;
+    const std::size_t step = along_y ? static_cast<std::size_t>(nx) : 1, line_step = along_y ? 1 : static_cast<std::size_t>(nx);
+    for (int line = 0; line < lines; ++line) {
+        const std::size_t base = static_cast<std::size_t>(line) * line_step;
+        for (int i = 0; i < len; ++i) {
+            double v = kNaN;
+            for (int j = std::max(0, i - half); j <= std::min(len - 1, i + half); ++j) {
+                const double s = in[base + static_cast<std::size_t>(j) * step];
+                if (!std::isnan(s) && (std::isnan(v) || (deepest ? s > v : s < v))) v = s;
+            }
+            out[base + static_cast<std::size_t>(i) * step] = v;
+        }
+    }
+}
+
+// A square-window extreme: along x into tmp, then along y into out.
 void windowExtreme(const std::vector<double>& in, std::vector<double>& tmp, std::vector<double>& out, int nx, int ny,
                    int half, bool deepest) {
-    auto better = [deepest](double a, double b) { return std::isnan(b) || (deepest ? a > b : a < b); };
-    for (int iy = 0; iy < ny; ++iy)
-        for (int ix = 0; ix < nx; ++ix) {
-            double v = kNaN;
-            for (int x = std::max(0, ix - half); x <= std::min(nx - 1, ix + half); ++x) {
-                const double s = in[static_cast<std::size_t>(iy) * nx + x];
-                if (!std::isnan(s) && better(s, v)) v = s;
-            }
-            tmp[static_cast<std::size_t>(iy) * nx + ix] = v;
-        }
-    for (int iy = 0; iy < ny; ++iy)
-        for (int ix = 0; ix < nx; ++ix) {
-            double v = kNaN;
-            for (int y = std::max(0, iy - half); y <= std::min(ny - 1, iy + half); ++y) {
-                const double s = tmp[static_cast<std::size_t>(y) * nx + ix];
-                if (!std::isnan(s) && better(s, v)) v = s;
-            }
-            out[static_cast<std::size_t>(iy) * nx + ix] = v;
-        }
+    lineExtreme(in, tmp, nx, ny, half, deepest, false);
+    lineExtreme(tmp, out, nx, ny, half, deepest, true);
 }
 }  // namespace
 
