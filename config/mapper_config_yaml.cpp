@@ -113,6 +113,7 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("baseline_along_track", g.baseline_along_track);
     seg.read("seabed_from_ps_echoes", g.seabed_from_ps_echoes);
     seg.read("ps_echo_min_fraction", g.ps_echo_min_fraction);
+    seg.read("ps_echo_reference_above_seabed", g.ps_echo_reference_above_seabed);
     seg.read("fls_only_extension", g.fls_only_extension);
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("seabed_from_lower_envelope", g.seabed_from_lower_envelope);

@@ -293,11 +293,28 @@ void Segmenter::markConfirmed(const VoxelMap& map) {
                     label_[map.linear({x, y, z})] += e;
     }
     // The threshold: a share of what a well-seen surface collects in this map
-    // (90th percentile of the non-zero sums; queue_ is scratch here too).
+    // (90th percentile of the non-zero sums; queue_ is scratch here too). The
+    // surfaces that count are those standing above the seabed by more than the
+    // object height (ps_echo_reference_above_seabed): the scatter this
+    // threshold rejects comes from the object's own echoes, and the seabed,
+    // swept by every ping, collects far more than an object seen for a moment
+    // (or far less than one seen from every pass). None: every surface counts.
     if (cfg_.ps_echo_min_fraction > 0.0) {
         std::size_t n = 0;
-        for (std::size_t i = 0; i < map.size(); ++i)
-            if (label_[i] > 0) queue_[n++] = static_cast<uint32_t>(label_[i]);
+        if (cfg_.ps_echo_reference_above_seabed) {
+            const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
+            const double res = map.resolution();
+            for (std::size_t i = 0; i < map.size(); ++i) {
+                if (label_[i] <= 0) continue;
+                const double base = baseline_[i % layer];
+                const double centre_z = map.origin().z() + (static_cast<double>(i / layer) + 0.5) * res;
+                if (!std::isnan(base) && centre_z < base - cfg_.min_object_height)
+                    queue_[n++] = static_cast<uint32_t>(label_[i]);
+            }
+        }
+        if (n == 0)
+            for (std::size_t i = 0; i < map.size(); ++i)
+                if (label_[i] > 0) queue_[n++] = static_cast<uint32_t>(label_[i]);
         if (n > 0) {
             const auto p90 = queue_.begin() + static_cast<std::ptrdiff_t>((9 * n) / 10);
             std::nth_element(queue_.begin(), p90, queue_.begin() + static_cast<std::ptrdiff_t>(n));

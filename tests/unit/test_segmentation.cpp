@@ -398,3 +398,35 @@ TEST(SegmentationEchoField, LowerEnvelopeKeepsALowOutlierToItsOwnColumn) {
     EXPECT_EQ(seg.stats().objects, 0);
     for (int ix : {40, 49, 51, 60}) EXPECT_NEAR(seg.seabedDepth(ix, 50), 23.0, 0.06) << "column x " << ix;
 }
+
+TEST(SegmentationEchoField, EchoThresholdFollowsTheSurfacesAboveTheSeabed) {
+    // The seabed swept by every ping (20 echoes per voxel) and a block seen
+    // only briefly (4 per top voxel, the dog-leg pyramid's case): a threshold
+    // from every echo voxel is set by the seabed and confirms nothing of the
+    // block; one from the surfaces above the seabed confirms its top.
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // seabed top at layer 80
+    for (int iy = 40; iy < 60; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            const bool block = ix >= 45 && ix < 55 && iy >= 45 && iy < 55;
+            for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            if (block) {
+                for (int iz = 75; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+                for (int e = 0; e < 4; ++e) m.addPsEcho(m.linear({ix, iy, 75}));
+            } else {
+                for (int e = 0; e < 20; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
+            }
+        }
+    Segmenter seg(SegmentationConfig{}, true, m);
+    seg.run(m);
+    ASSERT_EQ(seg.stats().objects, 1);
+    EXPECT_EQ(seg.objects()[0].voxel_count, 10 * 10 * 5);
+    EXPECT_LE(seg.echoThreshold(), 36 / 2);  // a top voxel's neighbourhood holds 9 x 4
+
+    SegmentationConfig every_voxel;
+    every_voxel.ps_echo_reference_above_seabed = false;
+    Segmenter old(every_voxel, true, m);
+    old.run(m);
+    EXPECT_GT(old.echoThreshold(), 36);
+    EXPECT_EQ(old.stats().objects, 0);
+}

@@ -213,6 +213,11 @@ struct SegmentationConfig {
     // speed, so the rule does not assume one). Fraction 0: the count alone.
     int ps_echo_min_count = 2;
     double ps_echo_min_fraction = 0.3;
+    // The percentile is taken over the voxels standing above the seabed
+    // baseline by more than min_object_height (the map's objects), when any
+    // hold echoes: scatter is a share of what the objects collect, not of the
+    // seabed, which every ping sweeps. False: over every echo voxel.
+    bool ps_echo_reference_above_seabed = true;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `segmentation` block
 };
 
