@@ -275,6 +275,14 @@ void Segmenter::setAlongTrack(const Eigen::Vector2d& north_east) {
 // holding a PS echo end point. PS rays that only cross a voxel carve it
 // (Eq. 13); a voxel they crossed a few times while the FLS voted it every frame
 // is not something the PS saw.
+// Whether voxel i's centre lies more than `margin` above its column's seabed
+// baseline (NED: shallower); false where the baseline is unknown (NaN).
+bool Segmenter::aboveBaseline(const VoxelMap& map, std::size_t i, double margin) const {
+    const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
+    const double centre_z = map.origin().z() + (static_cast<double>(i / layer) + 0.5) * map.resolution();
+    return centre_z < baseline_[i % layer] - margin;
+}
+
 void Segmenter::markConfirmed(const VoxelMap& map) {
     std::fill(confirmed_.begin(), confirmed_.end(), 0);
     const int r = cfg_.ps_echo_radius;
@@ -302,15 +310,9 @@ void Segmenter::markConfirmed(const VoxelMap& map) {
     if (cfg_.ps_echo_min_fraction > 0.0) {
         std::size_t n = 0;
         if (cfg_.ps_echo_reference_above_seabed) {
-            const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
-            const double res = map.resolution();
-            for (std::size_t i = 0; i < map.size(); ++i) {
-                if (label_[i] <= 0) continue;
-                const double base = baseline_[i % layer];
-                const double centre_z = map.origin().z() + (static_cast<double>(i / layer) + 0.5) * res;
-                if (!std::isnan(base) && centre_z < base - cfg_.min_object_height)
+            for (std::size_t i = 0; i < map.size(); ++i)
+                if (label_[i] > 0 && aboveBaseline(map, i, cfg_.min_object_height))
                     queue_[n++] = static_cast<uint32_t>(label_[i]);
-            }
         }
         if (n == 0)
             for (std::size_t i = 0; i < map.size(); ++i)
@@ -341,11 +343,7 @@ void Segmenter::label(const VoxelMap& map) {
     for (std::size_t i = 0; i < map.size(); ++i) {
         label_[i] = 0;
         if (!occupied_[i]) continue;
-        const std::size_t col = i % layer;
-        const double base = baseline_[col];
-        const int iz = static_cast<int>(i / layer);
-        const double centre_z = map.origin().z() + (iz + 0.5) * res;
-        if (std::isnan(base) || !(centre_z < base)) continue;
+        if (!aboveBaseline(map, i, 0.0)) continue;
         if (!confirmedByPs(map, i)) {
             ++stats_.unconfirmed_voxels;
             // Where no PS ray ever went, the FLS (with its own free space) is
@@ -354,7 +352,7 @@ void Segmenter::label(const VoxelMap& map) {
             else if (cfg_.fill_below_objects) label_[i] = -4;
             continue;
         }
-        label_[i] = centre_z < base - cfg_.min_object_height ? -1 : -2;
+        label_[i] = aboveBaseline(map, i, cfg_.min_object_height) ? -1 : -2;
         ++stats_.candidate_voxels;
     }
     // 26-connected flood fill.

@@ -63,6 +63,7 @@ private:
     void lowerEnvelope(const VoxelMap& map);
     void smoothBaseline(const VoxelMap& map, bool exclude_raised);
     void smoothBaselineAlongTrack(int half, bool exclude_raised);
+    [[nodiscard]] bool aboveBaseline(const VoxelMap& map, std::size_t voxel, double margin) const;
     void markConfirmed(const VoxelMap& map);
     [[nodiscard]] bool confirmedByPs(const VoxelMap& map, std::size_t voxel) const;
     void label(const VoxelMap& map);
