@@ -59,7 +59,7 @@ uint64_t configFingerprint(const DaemonConfig& d) {
       << m.fls.rows << ' ' << m.fls.range_min << ' ' << m.fls.range_max << ' ' << m.fls.tilt << ' '
       << m.fls.fov_horizontal << ' ' << m.fls.elevation_min << ' ' << m.fls.elevation_max << '|' << m.ps.bins << ' '
       << m.ps.range_min << ' ' << m.ps.range_max << ' ' << m.ps.tilt << ' ' << m.ps.fan_min << ' ' << m.ps.fan_max
-      << '|' << m.update.p_occupied << ' ' << m.update.p_free << ' ' << m.update.alpha_fls << ' ' << m.update.alpha_ps
+      << '|' << m.update.p_occupied << ' ' << m.update.p_free << ' ' << m.update.alpha_fls << ' ' << m.update.fls_free_vote_ratio << ' ' << m.update.alpha_ps
       << ' ' << m.update.fls_enabled << m.update.ps_carving_enabled << '|' << m.nav_buffer_capacity << ' '
       << m.nav_timeline_confirm << ' ' << m.max_nav_gap_us << '|' << m.detector.seabed_capacity << ' '
       << m.detector.risen_capacity << '|' << d.fls_pending_slots << ' ' << d.ps_pending_slots;

@@ -95,6 +95,7 @@ Check MapConfig::validate() const {
 Check UpdateConfig::validate() const {
     if (!(p_occupied > 0.5 && p_occupied < 1.0)) return bad("p_occupied", "must be in (0.5, 1)");
     if (!(alpha_fls > 0.0) || !finite(alpha_fls)) return bad("alpha_fls", "must be finite and > 0");
+    if (!(fls_free_vote_ratio > 0.0) || !finite(fls_free_vote_ratio)) return bad("fls_free_vote_ratio", "must be finite and > 0");
     if (!(p_free > 0.0 && p_free < 0.5)) return bad("p_free", "must be in (0, 0.5)");
     if (!(alpha_ps >= 0.0) || !finite(alpha_ps)) return bad("alpha_ps", "must be finite and >= 0");
     if (!inRange(fls_intensity_threshold, 0, 255)) return bad("fls_intensity_threshold", range(0, 255));

@@ -11,7 +11,7 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
 FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const VoxelMap& map, int geometries,
                        int max_arc_samples)
     : cfg_(cfg), increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
-      free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free) * cfg.alpha_fls)),
+      free_increment_(static_cast<float>(-cfg.fls_free_vote_ratio * logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
       geo_(static_cast<std::size_t>(std::max(1, geometries))),
       max_arc_samples_(std::max(max_arc_samples, model.elevationSamples())) {
     if (cfg.fls_arc_spacing_voxels > 0.0) arc_spacing_ = cfg.fls_arc_spacing_voxels * map.resolution();

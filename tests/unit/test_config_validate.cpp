@@ -48,6 +48,7 @@ const BadValue kBadValues[] = {
     {"Update_p_free", [](MapperConfig& c) { c.update.p_free = 0.7; }, "update.p_free"},
     {"Update_p_occupied", [](MapperConfig& c) { c.update.p_occupied = 0.4; }, "update.p_occupied"},
     {"Update_alpha_fls", [](MapperConfig& c) { c.update.alpha_fls = 0.0; }, "update.alpha_fls"},
+    {"Update_fls_free_vote_ratio", [](MapperConfig& c) { c.update.fls_free_vote_ratio = 0.0; }, "update.fls_free_vote_ratio"},
     {"Update_threshold", [](MapperConfig& c) { c.update.fls_intensity_threshold = 256; },
      "update.fls_intensity_threshold"},
     {"Update_arc_spacing", [](MapperConfig& c) { c.update.fls_arc_spacing_voxels = 1e-6; },

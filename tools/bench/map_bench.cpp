@@ -208,7 +208,7 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
     const float hit_increment = static_cast<float>(logOddsFromProbability(u.p_occupied));
     const double alpha = u.alpha_ps;
     const Eigen::Vector3d shift = s.map_origin;
-    const float fls_free = static_cast<float>(logOddsFromProbability(u.p_free) * u.alpha_fls);
+    const float fls_free = static_cast<float>(-u.fls_free_vote_ratio * logOddsFromProbability(u.p_occupied) * u.alpha_fls);
     const double res = tree.getResolution();
     std::vector<Eigen::Vector3d> world_dir(arcs.arcDirections().size());
     std::unordered_map<octomap::OcTreeKey, uint8_t, octomap::OcTreeKey::KeyHash> scan;

@@ -114,9 +114,15 @@ struct UpdateConfig {
     // The FLS's own free-space evidence (space carving, Aykin and
     // Negahdaripour): a beam whose first return above the threshold lies at
     // range r saw water along its whole elevation arc before r. Those voxels
-    // get alpha_F * ln(P_f / (1 - P_f)) once per frame (a voxel the same frame
-    // also hit is left alone). The paper ignores it.
+    // are freed once per frame (a voxel the same frame also hit is left
+    // alone). The paper ignores it.
     bool fls_free_space = true;
+    // How much one frame that saw a voxel as water outweighs one frame that
+    // voted it at full intensity: the free update is -ratio * alpha_F *
+    // ln(P_o / (1 - P_o)). 3 is the smallest ratio of the two outcomes'
+    // log-likelihoods measured against ground truth (sf-fls-evidence +
+    // tools/bench/fls_likelihood.py; docs/algorithm.md, "FLS free-space weight").
+    double fls_free_vote_ratio = 3.0;
     // Report as objects only voxels that a PS ray crossed or ended in.
     bool require_ps_observation = true;
     // PS-only reconstruction: the end voxel of each PS ray gets an occupied

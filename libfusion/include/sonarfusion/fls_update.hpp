@@ -90,7 +90,7 @@ private:
 
     UpdateConfig cfg_;
     float increment_;       // delta L_o * alpha_F
-    float free_increment_;  // alpha_F * ln(P_f / (1 - P_f))
+    float free_increment_;  // -fls_free_vote_ratio * alpha_F * ln(P_o / (1 - P_o))
     double arc_spacing_ = 0.0;  // m between arc samples; 0: N_v samples
     std::vector<Geometry> geo_;  // slot 0: the constructor's model
     int current_ = 0;

@@ -1,0 +1,69 @@
+// sf-fls-evidence: per voxel, in how many FLS frames the mapper voted it (an
+// arc of a return above the threshold fell in it) and in how many it freed it
+// (it lay before its beam's first return). Together with the evaluator's ground
+// truth (tools/bench/fls_likelihood.py) this measures the FLS's inverse
+// sensor model: how often a surface is seen through, and how often water is
+// voted (docs/algorithm.md, "FLS free-space weight").
+//
+// The counts come from the very update stream the Mapper applies
+// (update_stream.hpp), so they are the mapper's own, frame by frame.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <vector>
+
+#include "update_stream.hpp"
+
+using namespace sonarfusion;
+
+int main(int argc, char** argv) {
+    CLI::App app{"sf-fls-evidence: per-voxel FLS vote and free-space frame counts of a mapper run"};
+    std::string log_path, config_path = std::string(SF_SOURCE_DIR) + "/scenarios/mapper.yaml", out_path;
+    app.add_option("--log", log_path, "LCM log written by sf-sim")->required()->check(CLI::ExistingFile);
+    app.add_option("--config", config_path, "mapper YAML config")->check(CLI::ExistingFile);
+    app.add_option("--out", out_path, "counts file (format: tools/bench/fls_likelihood.py)")
+        ->required();
+    CLI11_PARSE(app, argc, argv);
+
+    DaemonConfig dcfg;
+    sfbench::Recording rec;
+    try {
+        dcfg = loadDaemonConfig(config_path);
+        const sfbench::ScenarioLog log = sfbench::loadScenarioLog(log_path, dcfg);
+        rec = sfbench::recordUpdateStream(log, dcfg.mapper);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sf-fls-evidence: %s\n", e.what());
+        return 2;
+    }
+    const sfbench::UpdateStream& s = rec.stream;
+    VoxelMap map(dcfg.mapper.map);
+    map.initialiseAt(s.map_centre);
+    std::vector<uint16_t> voted(map.size(), 0), freed(map.size(), 0);
+    auto bump = [](uint16_t& c) { c = static_cast<uint16_t>(c + (c < std::numeric_limits<uint16_t>::max())); };
+    for (const sfbench::MessageRecord& m : s.messages) {
+        if (m.kind != sfbench::MessageRecord::Fls) continue;
+        // Per-frame counting: each voxel appears at most once per frame.
+        for (uint32_t u = m.begin; u < m.end; ++u) {
+            const sfbench::VoxelUpdate& up = s.updates[u];
+            if (s.update_flag[u] & VoxelMap::kFlsTouched) bump(voted[up.voxel]);
+            else if (up.delta < 0.0f) bump(freed[up.voxel]);
+        }
+    }
+    std::ofstream out(out_path, std::ios::binary);
+    const int32_t dims[3] = {map.nx(), map.ny(), map.nz()};
+    const double res = map.resolution();
+    const double origin[3] = {map.origin().x(), map.origin().y(), map.origin().z()};
+    out.write("SFFLSEV1", 8);
+    out.write(reinterpret_cast<const char*>(dims), sizeof dims);
+    out.write(reinterpret_cast<const char*>(&res), sizeof res);
+    out.write(reinterpret_cast<const char*>(origin), sizeof origin);
+    out.write(reinterpret_cast<const char*>(voted.data()), static_cast<std::streamsize>(voted.size() * 2));
+    out.write(reinterpret_cast<const char*>(freed.data()), static_cast<std::streamsize>(freed.size() * 2));
+    if (!out) {
+        std::fprintf(stderr, "sf-fls-evidence: cannot write %s\n", out_path.c_str());
+        return 1;
+    }
+    std::printf("%d FLS frames; counts of %zu voxels written to %s\n", s.fls_frames, map.size(), out_path.c_str());
+    return 0;
+}
