@@ -118,6 +118,7 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("fls_only_extension", g.fls_only_extension);
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("seabed_from_lower_envelope", g.seabed_from_lower_envelope);
+    seg.read("seabed_at_echo_centres", g.seabed_at_echo_centres);
     seg.read("low_layers_from_above", g.low_layers_from_above);
     seg.read("ps_echo_radius", g.ps_echo_radius);
     seg.read("ps_echo_min_count", g.ps_echo_min_count);

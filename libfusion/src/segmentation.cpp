@@ -69,7 +69,9 @@ bool Segmenter::usableSurface(std::size_t col, bool exclude_raised) const {
 }
 
 // Per column, the mean height of the PS echoes that ended in it (each voxel
-// weighted by its echo count), as the top face of a voxel like columnSurfaces.
+// weighted by its echo count): the mean of those voxels' centres, where the
+// echoes were to within a voxel (seabed_at_echo_centres), or of their top faces
+// like columnSurfaces (the earlier rule, half a voxel shallower).
 void Segmenter::echoSurfaces(const VoxelMap& map) {
     const double res = map.resolution();
     const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
@@ -81,7 +83,8 @@ void Segmenter::echoSurfaces(const VoxelMap& map) {
             sum += e * (iz + 0.5);
             n += e;
         }
-        surface_[col] = n > 0 ? map.origin().z() + (sum / n - 0.5) * res : kNaN;
+        const double offset = cfg_.seabed_at_echo_centres ? 0.0 : 0.5;
+        surface_[col] = n > 0 ? map.origin().z() + (sum / n - offset) * res : kNaN;
     }
 }
 
@@ -344,6 +347,16 @@ void Segmenter::label(const VoxelMap& map) {
         label_[i] = 0;
         if (!occupied_[i]) continue;
         if (!aboveBaseline(map, i, 0.0)) continue;
+        // The voxel the seabed surface runs through (its centre above the
+        // baseline, its bottom face below) is the object's base where an object
+        // stands on it and seabed everywhere else: it joins only straight down.
+        // A baseline on its centre (a column whose echoes all fell in it; the
+        // plane fits return that to within rounding) leaves it seabed.
+        const bool holds_seabed = baseline_at_echo_centres_ && !aboveBaseline(map, i, 0.5 * res);
+        if (holds_seabed) {
+            if (cfg_.fill_below_objects && aboveBaseline(map, i, 0.01 * res)) label_[i] = -4;
+            continue;
+        }
         if (!confirmedByPs(map, i)) {
             ++stats_.unconfirmed_voxels;
             // Where no PS ray ever went, the FLS (with its own free space) is
@@ -456,6 +469,7 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
         smoothBaseline(map, false);
         smoothBaseline(map, true);
     }
+    baseline_at_echo_centres_ = from_echoes && cfg_.seabed_at_echo_centres;
     if (!confirmed_.empty()) markConfirmed(map);
     label(map);
     return stats_;

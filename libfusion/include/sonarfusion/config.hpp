@@ -206,6 +206,10 @@ struct SegmentationConfig {
     // that fills most of the window (a single pass, its shadow unechoed) is
     // left out from the first pass instead of tilting the plane onto its top.
     bool seabed_from_lower_envelope = true;
+    // With seabed_from_ps_echoes: a column's seabed height is the echo-weighted
+    // mean of its echo voxels' centres (where the echoes were, to within a
+    // voxel), not of their top faces (half a voxel shallower).
+    bool seabed_at_echo_centres = true;
     // PS confirmation (docs/design.md, "Completion and segmentation"), where the variant requires it: a voxel is
     // confirmed when a PS echo (the end point of Eq. 11) fell within this many
     // voxels of it (Chebyshev distance). A ray that merely crosses a voxel is
