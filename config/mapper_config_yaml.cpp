@@ -128,6 +128,7 @@ DaemonConfig parse(const YAML::Node& root) {
     survey.read("max_maps", m.survey.max_maps);
     survey.read("release_margin", m.survey.release_margin);
     survey.read("published_capacity", m.survey.published_capacity);
+    survey.read("reopen_on_revisit", m.survey.reopen_on_revisit);
     survey.rejectUnknownKeys();
 
     Fields nav(top.child("nav"), "nav");

@@ -410,7 +410,7 @@ void MapperNode::maybePeriodic(int64_t utime) {
 
 void MapperNode::segmentAndPublish() {
     for (int s = 0; s < mapper_.slotCount(); ++s) {
-        if (mapper_.slot(s).id == 0) continue;
+        if (!mapper_.slot(s).inUse()) continue;  // free, or finalised and parked
         mapper_.segmentSlot(s);
         publishObjects(mapper_.slot(s).id, mapper_.segmenter().objects());
     }
@@ -456,7 +456,7 @@ const mapper_status_t& MapperNode::status() {
     s.map_centre_down.clear();
     s.map_updates.clear();
     for (int k = 0; k < mapper_.slotCount(); ++k) {  // capacity reserved at start-up
-        if (mapper_.slot(k).id == 0) continue;
+        if (!mapper_.slot(k).inUse()) continue;  // free, or finalised and parked
         const Eigen::Vector3d c = mapper_.slotMap(k).centre();
         s.map_ids.push_back(mapper_.slot(k).id);
         s.map_centre_north.push_back(c.x());

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -60,6 +61,11 @@ void writeObjectsJson(const FinalisedMap& f, const std::string& variant, const s
 }
 
 void onFinalised(const FinalisedMap& f, const DaemonConfig& cfg, MapOutputs& outs) {
+    // A reopened map (survey.reopen_on_revisit) is finalised again: its objects replace the earlier ones.
+    const std::string prefix = fmt::format("map {} object ", f.map_id);
+    outs.summary.erase(std::remove_if(outs.summary.begin(), outs.summary.end(),
+                                      [&](const std::string& s) { return s.rfind(prefix, 0) == 0; }),
+                       outs.summary.end());
     for (const ObjectInfo& o : f.objects)
         outs.summary.push_back(fmt::format("map {} object {}: {} voxels, {:.3f} m3, centroid {:.2f} {:.2f} {:.2f}, "
                                            "height {:.2f} m{}",

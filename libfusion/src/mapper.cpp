@@ -38,6 +38,8 @@ namespace {
 // Per-ping FLS geometry: a frame's window may reach one configured bin past the
 // configured maximum range, its aperture this far past each configured limit.
 constexpr double kFlsApertureTol = 0.5 * kDegToRad;
+// A retired published box (its map reopened): lo above hi, so it overlaps nothing.
+constexpr double kRetiredBox = 1e30;
 double flsRangeTolerance(const FlsModel& m) {
     return (m.rangeMax() - m.rangeOfRow(m.rows() - 1)) / (m.rows() - 1);
 }
@@ -201,20 +203,36 @@ bool Mapper::reaches(int slot, const Eigen::Vector3d& p, double range) const {
 
 int Mapper::activeMaps() const {
     int n = 0;
-    for (const MapSlot& s : slots_) n += s.id != 0;
+    for (const MapSlot& s : slots_) n += s.inUse();
     return n;
 }
 
 void Mapper::onDetection(const Eigen::Vector3d& at) {
     ++counters_.detections;
     const Eigen::Vector2d xy = at.head<2>();
-    for (std::size_t s = 0; s < maps_.size(); ++s) {
-        if (slots_[s].id == 0) continue;
+    auto inside = [&](std::size_t s) {
         const Eigen::Vector2d lo = maps_[s].origin().head<2>(), hi = lo + maps_[s].extent().head<2>();
-        if ((xy.array() >= lo.array()).all() && (xy.array() < hi.array()).all()) {
+        return (xy.array() >= lo.array()).all() && (xy.array() < hi.array()).all();
+    };
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        if (slots_[s].inUse() && inside(s)) {
             ++counters_.detection_in_active_map;
             return;
         }
+    }
+    // Inside a finalised map still kept (a later line over its area): reopen
+    // it, so what this line sees is fused with what the earlier one saw; its
+    // published boxes are retired, since it publishes its objects again.
+    for (std::size_t s = 0; s < maps_.size(); ++s) {
+        if (!slots_[s].parked || !inside(s)) continue;
+        slots_[s].parked = false;
+        slots_[s].leaving = false;
+        for (int i = 0; i < published_count_; ++i) {
+            Box& b = published_[static_cast<std::size_t>(i)];
+            if (b.map_id == slots_[s].id) b = Box{Eigen::Vector3d::Constant(kRetiredBox), Eigen::Vector3d::Constant(-kRetiredBox), 0};
+        }
+        ++counters_.detection_reopened_map;
+        return;
     }
     // On an object already published (a later line over it): mapping it again
     // would only publish it twice.
@@ -226,14 +244,28 @@ void Mapper::onDetection(const Eigen::Vector3d& at) {
             return;
         }
     }
-    for (std::size_t s = 0; s < maps_.size(); ++s) {
-        if (slots_[s].id != 0) continue;
-        maps_[s].initialiseAt(at);
-        slots_[s] = MapSlot{next_map_id_++, false, 0};
-        ++counters_.map_initialisations;
+    const int s = slotForNewMap();
+    if (s < 0) {
+        ++counters_.detection_no_free_map;  // never evicts a map still being made
         return;
     }
-    ++counters_.detection_no_free_map;  // never evicts a map still being made
+    maps_[static_cast<std::size_t>(s)].initialiseAt(at);
+    slots_[static_cast<std::size_t>(s)] = MapSlot{next_map_id_++, false, 0, false};
+    ++counters_.map_initialisations;
+}
+
+int Mapper::slotForNewMap() {
+    int parked = -1;
+    for (int s = 0; s < slotCount(); ++s) {
+        const MapSlot& m = slots_[static_cast<std::size_t>(s)];
+        if (m.id == 0) return s;
+        if (m.parked && (parked < 0 || m.id < slots_[static_cast<std::size_t>(parked)].id)) parked = s;
+    }
+    if (parked >= 0) {
+        maps_[static_cast<std::size_t>(parked)].release();
+        slots_[static_cast<std::size_t>(parked)] = MapSlot{};
+    }
+    return parked;
 }
 
 std::optional<Pose> Mapper::navPoseAt(int64_t utime) const {
@@ -384,14 +416,14 @@ int Mapper::leavingSlot() const {
     int best = -1;
     for (int s = 0; s < slotCount(); ++s) {
         const MapSlot& m = slots_[static_cast<std::size_t>(s)];
-        if (m.id != 0 && m.leaving && (best < 0 || m.id < slots_[static_cast<std::size_t>(best)].id)) best = s;
+        if (m.inUse() && m.leaving && (best < 0 || m.id < slots_[static_cast<std::size_t>(best)].id)) best = s;
     }
     return best;
 }
 
 void Mapper::leaveAll() {
     for (MapSlot& s : slots_)
-        if (s.id != 0) s.leaving = true;
+        if (s.inUse()) s.leaving = true;
 }
 
 const std::vector<ObjectInfo>& Mapper::finaliseSlot(int slot) {
@@ -421,7 +453,7 @@ const std::vector<ObjectInfo>& Mapper::finaliseSlot(int slot) {
         bool other = false;
         const int own_count = occupiedIn(own, o);
         for (int s = 0; s < slotCount() && !other; ++s)
-            if (s != slot && slots_[static_cast<std::size_t>(s)].id != 0 &&
+            if (s != slot && slots_[static_cast<std::size_t>(s)].inUse() &&
                 occupiedIn(maps_[static_cast<std::size_t>(s)], o) > own_count)
                 other = true;
         if (other) {
@@ -437,7 +469,7 @@ const std::vector<ObjectInfo>& Mapper::finaliseSlot(int slot) {
             ++counters_.objects_duplicate;
             continue;
         }
-        published_[static_cast<std::size_t>(published_next_)] = Box{o.bbox_min, o.bbox_max};
+        published_[static_cast<std::size_t>(published_next_)] = Box{o.bbox_min, o.bbox_max, slots_[static_cast<std::size_t>(slot)].id};
         published_next_ = (published_next_ + 1) % static_cast<int>(published_.size());
         published_count_ = std::min(published_count_ + 1, static_cast<int>(published_.size()));
         finalised_.push_back(o);
@@ -448,20 +480,26 @@ const std::vector<ObjectInfo>& Mapper::finaliseSlot(int slot) {
 }
 
 void Mapper::releaseSlot(int slot) {
+    MapSlot& m = slots_[static_cast<std::size_t>(slot)];
+    if (cfg_.survey.reopen_on_revisit && m.id != 0) {
+        m.parked = true;
+        m.leaving = false;
+        return;
+    }
     maps_[static_cast<std::size_t>(slot)].release();
-    slots_[static_cast<std::size_t>(slot)] = MapSlot{};
+    m = MapSlot{};
 }
 
 void Mapper::initialiseMapAt(const Eigen::Vector3d& centre) {
     // The first free slot (slot 0 in a fresh mapper: map()).
-    for (std::size_t s = 0; s < maps_.size(); ++s) {
-        if (slots_[s].id != 0) continue;
-        slots_[s] = MapSlot{next_map_id_++, false, 0};
-        maps_[s].initialiseAt(centre);
-        ++counters_.map_initialisations;
+    const int s = slotForNewMap();
+    if (s < 0) {
+        ++counters_.detection_no_free_map;
         return;
     }
-    ++counters_.detection_no_free_map;
+    slots_[static_cast<std::size_t>(s)] = MapSlot{next_map_id_++, false, 0, false};
+    maps_[static_cast<std::size_t>(s)].initialiseAt(centre);
+    ++counters_.map_initialisations;
 }
 
 
@@ -472,13 +510,17 @@ void Mapper::saveState(StateWriter& w) const {
         w.pod(slots_[s].id);
         w.pod(static_cast<uint8_t>(slots_[s].leaving));
         w.pod(slots_[s].updates);
+        w.pod(static_cast<uint8_t>(slots_[s].parked));
     }
     w.pod(next_map_id_);
     w.pod(published_count_);
     w.pod(published_next_);
     for (int i = 0; i < published_count_; ++i)
+    {
         for (const Eigen::Vector3d* v : {&published_[static_cast<std::size_t>(i)].lo, &published_[static_cast<std::size_t>(i)].hi})
             for (int k = 0; k < 3; ++k) w.pod((*v)[k]);
+        w.pod(published_[static_cast<std::size_t>(i)].map_id);
+    }
     detector_.saveState(w);
     nav_.saveState(w);
     w.pod(nav_candidate_count_);
@@ -491,22 +533,27 @@ bool Mapper::loadState(StateReader& r) {
     int held = 0;
     if (!r.expect(static_cast<uint64_t>(maps_.size()))) return false;
     for (std::size_t s = 0; s < maps_.size(); ++s) {
-        uint8_t leaving = 0;
+        uint8_t leaving = 0, parked = 0;
         MapSlot m;
-        if (!maps_[s].loadState(r) || !r.pod(m.id) || !r.pod(leaving) || !r.pod(m.updates) || m.id < 0 ||
-            leaving > 1 || m.updates < 0 || (m.id != 0) != maps_[s].initialised())
+        if (!maps_[s].loadState(r) || !r.pod(m.id) || !r.pod(leaving) || !r.pod(m.updates) || !r.pod(parked) ||
+            m.id < 0 || leaving > 1 || parked > 1 || (parked == 1 && (m.id == 0 || leaving == 1)) || m.updates < 0 ||
+            (m.id != 0) != maps_[s].initialised())
             return false;
         m.leaving = leaving != 0;
+        m.parked = parked != 0;
         slots_[s] = m;
     }
     const int cap = static_cast<int>(published_.size());
     if (!r.pod(next_map_id_) || next_map_id_ < 1 || !r.pod(published_count_) || !r.pod(published_next_) ||
         published_count_ < 0 || published_count_ > cap || published_next_ < 0 || published_next_ >= cap)
         return false;
-    for (int i = 0; i < published_count_; ++i)
+    for (int i = 0; i < published_count_; ++i) {
         for (Eigen::Vector3d* v : {&published_[static_cast<std::size_t>(i)].lo, &published_[static_cast<std::size_t>(i)].hi})
             for (int k = 0; k < 3; ++k)
                 if (!r.pod((*v)[k]) || !std::isfinite((*v)[k])) return false;
+        if (!r.pod(published_[static_cast<std::size_t>(i)].map_id) || published_[static_cast<std::size_t>(i)].map_id < 0)
+            return false;
+    }
     if (!detector_.loadState(r) || !nav_.loadState(r) || !r.pod(held) || held < 0 ||
         held >= cfg_.nav_timeline_confirm)
         return false;
@@ -519,7 +566,7 @@ bool Mapper::loadState(StateReader& r) {
 std::size_t Mapper::stateBytesBound() const {
     const std::size_t pose = sizeof(int64_t) + 6 * sizeof(double);
     return 64 + maps_.size() * (maps_.front().size() * (sizeof(float) + 1) + 64) + 64 +
-           published_.size() * 48 + 24 * 2 +
+           published_.size() * 56 + 24 * 2 +
            static_cast<std::size_t>(cfg_.detector.seabed_capacity + cfg_.detector.risen_capacity) * 24 + 64 +
            static_cast<std::size_t>(cfg_.nav_buffer_capacity) * pose + 16 +
            static_cast<std::size_t>(kMaxNavTimelineConfirm) * pose + 64 + sizeof(MapperCounters);

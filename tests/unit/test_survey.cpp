@@ -105,7 +105,9 @@ TEST(Survey, AFullPoolCountsTheDetectionAndNeverEvicts) {
 }
 
 TEST(Survey, ALaterPassOverAPublishedObjectMapsItNoMoreAndPublishesItOnce) {
-    Mapper m(surveyConfig());
+    MapperConfig cfg = surveyConfig();
+    cfg.survey.reopen_on_revisit = false;  // the map is freed when finalised
+    Mapper m(cfg);
     const test::BoxesWorld world{0.0};
     std::vector<Published> out;
     runPass(m, world, -6.0, 24.0, 1000000, out);  // leaves the map: finalised on the way
@@ -119,6 +121,53 @@ TEST(Survey, ALaterPassOverAPublishedObjectMapsItNoMoreAndPublishesItOnce) {
     int boxes = 0;
     for (const Published& p : out) boxes += p.object.voxel_count >= 100 && std::fabs(p.object.centroid.x()) < 1.5;
     EXPECT_EQ(boxes, 1);
+}
+
+// survey.reopen_on_revisit (default): the finalised map stays in its slot, and
+// a later line that detects its object reopens it, so both lines' evidence
+// lands in one map, which publishes the object again (same map id), once.
+TEST(Survey, ALaterPassOverAFinalisedMapReopensItAndItsObjectStaysOne) {
+    Mapper m(surveyConfig());
+    const test::BoxesWorld world{0.0};
+    std::vector<Published> out;
+    runPass(m, world, -6.0, 24.0, 1000000, out);  // leaves the map: finalised on the way, parked
+    ASSERT_EQ(m.counters().maps_finalised, 1);
+    EXPECT_EQ(m.activeMaps(), 0);
+    ASSERT_TRUE(m.slot(0).parked);
+    const int64_t updates_first = m.slot(0).updates;
+    const int first_objects = static_cast<int>(out.size());
+    runPass(m, world, -6.0, 24.0, 1000000 + 24 * 10000000LL, out);  // the same line again
+    m.leaveAll();
+    finaliseLeft(m, out);
+    const MapperCounters& c = m.counters();
+    EXPECT_EQ(c.detection_reopened_map, 1);
+    EXPECT_EQ(c.detection_known_object, 0);
+    EXPECT_EQ(c.map_initialisations, 1);  // no second map
+    EXPECT_EQ(c.maps_finalised, 2);       // the same map, finalised again
+    EXPECT_GT(m.slot(0).updates, updates_first) << "the second line's sonar data went into the reopened map";
+    // Published again by the reopened map (id 1), not refused as a duplicate of its own earlier box.
+    int again = 0;
+    for (std::size_t i = static_cast<std::size_t>(first_objects); i < out.size(); ++i)
+        again += out[i].map_id == 1 && out[i].object.voxel_count >= 100 && std::fabs(out[i].object.centroid.x()) < 1.5;
+    EXPECT_EQ(again, 1);
+    EXPECT_EQ(c.objects_duplicate, 0);
+}
+
+// A parked map gives its slot to a new object's map (the oldest parked first);
+// a map still being made never does (AFullPoolCountsTheDetectionAndNeverEvicts).
+TEST(Survey, AParkedMapGivesItsSlotToANewMap) {
+    MapperConfig cfg = surveyConfig();
+    cfg.survey.max_maps = 1;
+    Mapper m(cfg);
+    const test::BoxesWorld world{0.0, 25.0};
+    std::vector<Published> out;
+    runPass(m, world, -6.0, 37.0, 1000000, out);
+    const MapperCounters& c = m.counters();
+    EXPECT_EQ(c.map_initialisations, 2);
+    EXPECT_EQ(c.detection_no_free_map, 0);
+    EXPECT_EQ(m.slot(0).id, 2);
+    EXPECT_FALSE(m.slot(0).parked);
+    EXPECT_GT(std::fabs(m.map().centre().x()), 20.0);
 }
 
 TEST(Survey, ObjectsAreNeverPublishedTwiceByOverlappingMaps) {
@@ -157,8 +206,10 @@ TEST(Survey, CheckpointCarriesEveryMap) {
     Mapper b(surveyConfig());
     StateReader r(buf.data(), w.size());
     ASSERT_TRUE(b.loadState(r));
+    EXPECT_TRUE(a.slot(0).parked) << "the first map, finalised on the way, is kept for a revisit";
     for (int s = 0; s < a.slotCount(); ++s) {
         EXPECT_EQ(a.slot(s).id, b.slot(s).id);
+        EXPECT_EQ(a.slot(s).parked, b.slot(s).parked);
         EXPECT_EQ(a.slotMap(s).logOddsData(), b.slotMap(s).logOddsData());
         EXPECT_EQ(a.slotMap(s).origin(), b.slotMap(s).origin());
     }

@@ -243,6 +243,12 @@ struct SurveyConfig {
     // either sonar can still reach into the map from.
     double release_margin = -1.0;
     int published_capacity = 256;  // bounding boxes of published objects remembered, to refuse duplicates
+    // A finalised map stays in its slot (parked) until a new map needs it; a
+    // later line that detects an object inside it reopens it, so both lines'
+    // views are fused and its objects republished under the same map id.
+    // false: the slot is freed at once and a later line over a published
+    // object maps nothing (detection_known_object).
+    bool reopen_on_revisit = true;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `survey` block
 };
 

@@ -58,7 +58,8 @@ struct MapperCounters {
     // Survey mode: what became of each detection, and of the maps.
     int64_t detections = 0;
     int64_t detection_in_active_map = 0;    // inside an active map: that map maps it
-    int64_t detection_known_object = 0;     // on an object already published
+    int64_t detection_known_object = 0;     // on an object already published (its map no longer kept)
+    int64_t detection_reopened_map = 0;     // inside a finalised map still kept: that map is reopened
     int64_t detection_no_free_map = 0;      // every slot busy: counted, nothing evicted
     int64_t maps_finalised = 0;
     int64_t objects_published = 0;
@@ -71,6 +72,10 @@ struct MapSlot {
     int id = 0;
     bool leaving = false;  // the vehicle has left it: frozen, to be finalised
     int64_t updates = 0;   // FLS frames and PS pings that reached it
+    // Finalised and published, kept until a new map needs the slot: a later
+    // line that detects an object inside it reopens it (survey.reopen_on_revisit).
+    bool parked = false;
+    [[nodiscard]] bool inUse() const { return id != 0 && !parked; }  // being made (or left, not yet finalised)
 };
 
 class Mapper {
@@ -116,7 +121,10 @@ public:
     // published twice (its box overlapping one already published). The
     // published boxes are remembered (SurveyConfig::published_capacity).
     const std::vector<ObjectInfo>& finaliseSlot(int slot);
-    // Frees the slot for a new map.
+    // Frees the slot for a new map. With survey.reopen_on_revisit the map stays
+    // in it, parked (MapSlot::parked), until a new map needs the slot (the
+    // oldest parked map goes first) or a later detection inside it reopens it;
+    // a reopened map is finalised again and republishes its objects.
     void releaseSlot(int slot);
 
     // Checkpoints: everything the pipeline needs to go on (map, detector, NAV
@@ -128,8 +136,8 @@ public:
     // An upper bound of saveState's size, for sizing the buffer once.
     [[nodiscard]] std::size_t stateBytesBound() const;
 
-    // Anchors a map by hand (e.g. a known target) in the first free slot;
-    // counted as detection_no_free_map when there is none.
+    // Anchors a map by hand (e.g. a known target) in the first free slot (or
+    // the oldest parked one); counted as detection_no_free_map when there is none.
     void initialiseMapAt(const Eigen::Vector3d& centre);
 
     [[nodiscard]] const VoxelMap& map() const { return maps_.front(); }
@@ -164,10 +172,14 @@ private:
     void markLeftMaps(const Eigen::Vector3d& vehicle);
     // Whether a sensor at `p` with this maximum range can reach the slot's map.
     [[nodiscard]] bool reaches(int slot, const Eigen::Vector3d& p, double range) const;
-    [[nodiscard]] bool updatable(int slot) const { return slots_[slot].id != 0 && !slots_[slot].leaving; }
+    [[nodiscard]] bool updatable(int slot) const { return slots_[slot].inUse() && !slots_[slot].leaving; }
+    // A slot for a new map: the first free one, else the oldest parked one
+    // (released here); -1 when every slot holds a map being made.
+    int slotForNewMap();
 
     struct Box {
         Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+        int map_id = 0;  // the map that published it
     };
 
     MapperConfig cfg_;
