@@ -244,14 +244,7 @@ void Mapper::onDetection(const Eigen::Vector3d& at) {
             return;
         }
     }
-    const int s = slotForNewMap();
-    if (s < 0) {
-        ++counters_.detection_no_free_map;  // never evicts a map still being made
-        return;
-    }
-    maps_[static_cast<std::size_t>(s)].initialiseAt(at);
-    slots_[static_cast<std::size_t>(s)] = MapSlot{next_map_id_++, false, 0, false};
-    ++counters_.map_initialisations;
+    initialiseMapAt(at);
 }
 
 int Mapper::slotForNewMap() {
@@ -491,10 +484,10 @@ void Mapper::releaseSlot(int slot) {
 }
 
 void Mapper::initialiseMapAt(const Eigen::Vector3d& centre) {
-    // The first free slot (slot 0 in a fresh mapper: map()).
+    // The first free slot (slot 0 in a fresh mapper: map()), else the oldest parked one.
     const int s = slotForNewMap();
     if (s < 0) {
-        ++counters_.detection_no_free_map;
+        ++counters_.detection_no_free_map;  // never evicts a map still being made
         return;
     }
     slots_[static_cast<std::size_t>(s)] = MapSlot{next_map_id_++, false, 0, false};
@@ -515,8 +508,7 @@ void Mapper::saveState(StateWriter& w) const {
     w.pod(next_map_id_);
     w.pod(published_count_);
     w.pod(published_next_);
-    for (int i = 0; i < published_count_; ++i)
-    {
+    for (int i = 0; i < published_count_; ++i) {
         for (const Eigen::Vector3d* v : {&published_[static_cast<std::size_t>(i)].lo, &published_[static_cast<std::size_t>(i)].hi})
             for (int k = 0; k < 3; ++k) w.pod((*v)[k]);
         w.pod(published_[static_cast<std::size_t>(i)].map_id);
