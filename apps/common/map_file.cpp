@@ -12,7 +12,10 @@
 namespace sonarfusion {
 
 namespace {
-constexpr char kMagic[8] = {'S', 'F', 'M', 'A', 'P', '0', '0', '1'};
+// Version 2 adds the above-seabed FLS vote counts after the flags; version 1
+// files (without them) still load, with every count zero.
+constexpr char kMagic[8] = {'S', 'F', 'M', 'A', 'P', '0', '0', '2'};
+constexpr char kMagicV1[8] = {'S', 'F', 'M', 'A', 'P', '0', '0', '1'};
 
 [[noreturn]] void fail(const std::string& path, const std::string& why) {
     throw std::runtime_error("map file " + path + ": " + why);
@@ -58,6 +61,8 @@ void saveMap(const std::string& path, const VoxelMap& map, const std::string& va
         f.write(reinterpret_cast<const char*>(map.logOddsData().data()),
                 static_cast<std::streamsize>(map.size() * sizeof(float)));
         f.write(reinterpret_cast<const char*>(map.flagsData().data()), static_cast<std::streamsize>(map.size()));
+        f.write(reinterpret_cast<const char*>(map.aboveSeabedVotesData().data()),
+                static_cast<std::streamsize>(map.size()));
     });
 }
 
@@ -88,9 +93,11 @@ std::ifstream openMapFile(const std::string& path, uint64_t& size) {
 // voxels unread.
 MapFileHeader readHeader(std::ifstream& f, const std::string& path, uint64_t file_size) {
     char magic[8];
-    if (!f.read(magic, sizeof(magic)) || std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
+    if (!f.read(magic, sizeof(magic)) ||
+        (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0 && std::memcmp(magic, kMagicV1, sizeof(kMagicV1)) != 0))
         fail(path, "not a sonarfusion map (bad magic)");
     MapFileHeader h;
+    h.version = magic[7] - '0';
     int32_t n[3];
     for (int32_t& v : n) get(f, v, path);
     h.nx = n[0], h.ny = n[1], h.nz = n[2];
@@ -124,7 +131,8 @@ MapFileHeader readHeader(std::ifstream& f, const std::string& path, uint64_t fil
         if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e)
             fail(path, "variant name is not printable ASCII");
     const uint64_t voxels = static_cast<uint64_t>(h.nx) * static_cast<uint64_t>(h.ny) * static_cast<uint64_t>(h.nz);
-    const uint64_t expected = kFixedHeaderBytes + len + voxels * (sizeof(float) + 1);
+    const uint64_t bytes_per_voxel = sizeof(float) + (h.version >= 2 ? 2 : 1);
+    const uint64_t expected = kFixedHeaderBytes + len + voxels * bytes_per_voxel;
     if (file_size < expected)
         fail(path, "truncated voxel data (" + std::to_string(file_size) + " bytes; the " + std::to_string(h.nx) + " x " +
                        std::to_string(h.ny) + " x " + std::to_string(h.nz) + " grid needs " + std::to_string(expected) + ")");
@@ -155,9 +163,10 @@ MapFileHeader loadMap(const std::string& path, VoxelMap& map) {
     if (h.nx != map.nx() || h.ny != map.ny() || h.nz != map.nz()) fail(path, "dimensions differ from the map");
     // The header matched the file's size, so these are as large as the file, no larger.
     std::vector<float> l(map.size());
-    std::vector<uint8_t> flags(map.size());
+    std::vector<uint8_t> flags(map.size()), above(map.size(), 0);
     if (!f.read(reinterpret_cast<char*>(l.data()), static_cast<std::streamsize>(l.size() * sizeof(float))) ||
-        !f.read(reinterpret_cast<char*>(flags.data()), static_cast<std::streamsize>(flags.size())))
+        !f.read(reinterpret_cast<char*>(flags.data()), static_cast<std::streamsize>(flags.size())) ||
+        (h.version >= 2 && !f.read(reinterpret_cast<char*>(above.data()), static_cast<std::streamsize>(above.size()))))
         fail(path, "truncated voxel data");
     // Checked before the map is touched: a bad file leaves it as it was.
     for (std::size_t i = 0; i < l.size(); ++i)
@@ -166,6 +175,7 @@ MapFileHeader loadMap(const std::string& path, VoxelMap& map) {
     for (std::size_t i = 0; i < l.size(); ++i) {
         map.setLogOdds(i, l[i]);
         map.setFlags(i, flags[i]);
+        map.setFlsAboveSeabedVotes(i, above[i]);
     }
     return h;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace sonarfusion {
 
@@ -30,6 +31,38 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
         slot_.assign(map.size(), 0u);
         touched_.resize(map.size());
         strongest_.resize(map.size());
+        above_seabed_.resize(map.size());
+    }
+    seabed_range_.assign(static_cast<std::size_t>(std::max(model.colCapacity(), model.cols())), 0.0f);
+}
+
+void FlsUpdater::computeSeabedRanges(const Geometry& g, const Eigen::Vector3d& sensor_world, double resolution) {
+    const int cols = g.model->cols();
+    if (!seabed_) {  // no seabed known: no return is nearer than it
+        std::fill(seabed_range_.begin(), seabed_range_.begin() + cols, 0.0f);
+        return;
+    }
+    // A ray s + t d meets the plane z = z0 + g . (xy - c) raised by the margin
+    // at t = (depth under s - margin) / (d.z - g . d.xy); over the beam's
+    // elevation arc (the longest table: the finest sampling) the nearest such
+    // t is where the seabed could first return.
+    const SeabedFit& f = *seabed_;
+    const double margin = 3.0 * f.rms + 0.5 * resolution;
+    const double depth_below = f.depthAt(sensor_world.head<2>()) - sensor_world.z() - margin;
+    const int n = g.table_samples;
+    const Eigen::Vector3f* table = &world_direction_[g.table_offset[n]];
+    for (int col = 0; col < cols; ++col) {
+        double nearest = 0.0;  // no steeper ray reaches the seabed: nothing is nearer than it
+        bool reaches = false;
+        for (int k = 0; k < n; ++k) {
+            const Eigen::Vector3f& d = table[static_cast<std::size_t>(col) * n + k];
+            const double rise = d.z() - f.gradient.x() * d.x() - f.gradient.y() * d.y();
+            if (rise > 1e-6 && depth_below > 0.0) {
+                nearest = reaches ? std::min(nearest, depth_below / rise) : depth_below / rise;
+                reaches = true;
+            }
+        }
+        seabed_range_[static_cast<std::size_t>(col)] = static_cast<float>(nearest / resolution);
     }
 }
 

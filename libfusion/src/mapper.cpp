@@ -1,5 +1,7 @@
 #include "sonarfusion/mapper.hpp"
 
+#include "sonarfusion/beam_direction.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -53,7 +55,7 @@ int flsMaxArcSamples(const MapperConfig& cfg, const FlsModel& m) {
 }  // namespace
 
 std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
-    // Per voxel (docs/algorithm.md, "Memory"): 5 B map, 13 B FLS frame scratch,
+    // Per voxel (docs/algorithm.md, "Memory"): 6 B map, 14 B FLS frame scratch,
     // 10 B segmentation; plus the FLS direction tables and the fixed rings.
     const double voxels = static_cast<double>(cfg.map.nx) * cfg.map.ny * cfg.map.nz;
     const double columns = static_cast<double>(cfg.map.nx + 1) * (cfg.map.ny + 1);
@@ -68,7 +70,7 @@ std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
                        arc_vectors * 12.0 * (cfg.fls_max_geometries + 1) +
                        (cfg.fls_max_geometries - 1) * (static_cast<double>(cfg.fls.rows + cfg.fls.beams) * 8.0 +
                                                        static_cast<double>(cfg.fls.beams) * cfg.fls.elevation_samples * 12.0);
-    const double bytes = voxels * (23.0 + 5.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
+    const double bytes = voxels * (24.0 + 6.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
                          (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0 +
                          cfg.survey.published_capacity * 48.0;
     return bytes > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(bytes);
@@ -321,6 +323,16 @@ int Mapper::flsGeometrySlot(const FlsFrame& frame) {
     return victim;
 }
 
+std::optional<SeabedFit> Mapper::seabedAhead(const Eigen::Isometry3d& world_from_sensor) const {
+    const std::optional<double> depth = detector_.baseline();
+    if (!depth) return std::nullopt;
+    const Eigen::Vector3d s = world_from_sensor.translation();
+    const Eigen::Vector3d d = world_from_sensor.linear() * beamDirection(cfg_.fls.tilt, 0.0);
+    Eigen::Vector2d xy = s.head<2>();
+    if (d.z() > 1e-3 && *depth > s.z()) xy += d.head<2>() * ((*depth - s.z()) / d.z());
+    return detector_.seabedAt(xy);
+}
+
 Outcome Mapper::addFls(const FlsFrame& frame) {
     ++counters_.fls_in;
     if (frame.hasGeometry()) {
@@ -346,6 +358,7 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
         range_max = fls_models_[static_cast<std::size_t>(geometry) - 1].rangeMax();
     }
     fls_updater_.select(geometry);
+    fls_updater_.setSeabed(seabedAhead(world_from_sensor));
     for (int s = 0; s < slotCount(); ++s) {
         if (!updatable(s)) continue;
         if (!reaches(s, world_from_sensor.translation(), range_max)) continue;

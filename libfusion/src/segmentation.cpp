@@ -361,7 +361,11 @@ void Segmenter::label(const VoxelMap& map) {
             ++stats_.unconfirmed_voxels;
             // Where no PS ray ever went, the FLS (with its own free space) is
             // the only evidence: such voxels may extend an object (-3), never seed one.
-            if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
+            // With FLS votes the seabed cannot explain (enough to be occupied
+            // on those alone), they join an object from any side (-5).
+            if (cfg_.fls_above_seabed_min_votes > 0 && !map.psObserved(i) &&
+                map.flsAboveSeabedVotes(i) >= cfg_.fls_above_seabed_min_votes) label_[i] = -5;
+            else if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
             else if (cfg_.fill_below_objects) label_[i] = -4;
             continue;
         }

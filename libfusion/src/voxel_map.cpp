@@ -19,11 +19,13 @@ VoxelMap::VoxelMap(const MapConfig& cfg)
     const std::size_t n = static_cast<std::size_t>(nx_) * ny_ * nz_;
     log_odds_.assign(n, 0.0f);
     flags_.assign(n, 0);
+    above_seabed_votes_.assign(n, 0);
 }
 
 void VoxelMap::clear() {
     std::fill(log_odds_.begin(), log_odds_.end(), 0.0f);
     std::fill(flags_.begin(), flags_.end(), uint8_t{0});
+    std::fill(above_seabed_votes_.begin(), above_seabed_votes_.end(), uint8_t{0});
 }
 
 void VoxelMap::release() {
@@ -46,6 +48,7 @@ void VoxelMap::saveState(StateWriter& w) const {
     if (!initialised_) return;  // an unanchored map is all zeros (release() and the constructor see to it)
     w.bytes(log_odds_.data(), log_odds_.size() * sizeof(float));
     w.bytes(flags_.data(), flags_.size());
+    w.bytes(above_seabed_votes_.data(), above_seabed_votes_.size());
 }
 
 bool VoxelMap::loadState(StateReader& r) {
@@ -61,7 +64,8 @@ bool VoxelMap::loadState(StateReader& r) {
         initialised_ = false;
         return true;
     }
-    if (!r.bytes(log_odds_.data(), log_odds_.size() * sizeof(float)) || !r.bytes(flags_.data(), flags_.size()))
+    if (!r.bytes(log_odds_.data(), log_odds_.size() * sizeof(float)) || !r.bytes(flags_.data(), flags_.size()) ||
+        !r.bytes(above_seabed_votes_.data(), above_seabed_votes_.size()))
         return false;
     for (float& l : log_odds_)  // never trust a value from disk to be inside the clamp
         if (!std::isfinite(l)) return false;

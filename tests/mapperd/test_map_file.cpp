@@ -68,6 +68,7 @@ struct Fixture {
         for (std::size_t i = 0; i < m.size(); ++i) {
             m.setLogOdds(i, static_cast<float>(static_cast<int>(i % 11) - 5) * 0.7f);
             m.setFlags(i, static_cast<uint8_t>(i * 7));
+            m.setFlsAboveSeabedVotes(i, static_cast<uint8_t>(i * 13));
         }
         saveMap(path, m, "fused");
         bytes = readBytes(path);
@@ -93,7 +94,7 @@ struct Fixture {
 
 TEST(MapFile, SavesAndLoadsExactly) {
     Fixture fx;
-    ASSERT_EQ(fx.bytes.size(), kVariant + 5 + 6 * 5 * 4 * 5u);
+    ASSERT_EQ(fx.bytes.size(), kVariant + 5 + 6 * 5 * 4 * 6u);
     const MapFileHeader h = readMapHeader(fx.path);
     EXPECT_EQ(h.variant, "fused");
     EXPECT_TRUE(h.initialised);
@@ -102,6 +103,34 @@ TEST(MapFile, SavesAndLoadsExactly) {
     const std::string again = fx.dir.file("again.map");
     saveMap(again, m, h.variant);
     EXPECT_EQ(readBytes(again), fx.bytes);
+}
+
+// Version 1 (SFMAP001) files have no above-seabed vote counts: they still
+// load, with log-odds and flags as saved and every count zero.
+TEST(MapFile, AVersionOneFileLoadsWithoutAboveSeabedVotes) {
+    Fixture fx;
+    ASSERT_EQ(std::string(fx.bytes.begin(), fx.bytes.begin() + 8), "SFMAP002");
+    const std::size_t n = 6 * 5 * 4;
+    std::vector<uint8_t> v1(fx.bytes.begin(), fx.bytes.end() - static_cast<std::ptrdiff_t>(n));
+    v1[7] = '1';
+    const std::string p = fx.dir.file("v1.map");
+    writeBytes(p, v1);
+    const MapFileHeader h = readMapHeader(p);
+    EXPECT_EQ(h.version, 1);
+    VoxelMap m(mapConfigOf(h));
+    loadMap(p, m);
+    VoxelMap want(mapConfigOf(h));
+    loadMap(fx.path, want);
+    for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(m.logOdds(i), want.logOdds(i));
+        ASSERT_EQ(m.flags(i), want.flags(i));
+        ASSERT_EQ(m.flsAboveSeabedVotes(i), 0);
+        ASSERT_EQ(want.flsAboveSeabedVotes(i), static_cast<uint8_t>(i * 13));
+    }
+    // A version 1 file with the version 2 size is refused, not misread.
+    std::vector<uint8_t> v1_long = fx.bytes;
+    v1_long[7] = '1';
+    EXPECT_NE(fx.errorOf(v1_long).find("trailing"), std::string::npos);
 }
 
 TEST(MapFile, EveryTruncationIsAClearError) {

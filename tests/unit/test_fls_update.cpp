@@ -257,3 +257,44 @@ TEST(FlsUpdate, TheFreeSpaceRuleIsOffInThePaperVariant) {
     EXPECT_TRUE(fused.update.fls_free_space);
     EXPECT_GT(fused.update.fls_arc_spacing_voxels, 0.0);
 }
+
+// A return nearer than the seabed anywhere on its beam's elevation arc cannot
+// be the seabed: its voxels are counted as voted above the seabed, once per
+// frame (VoxelMap::flsAboveSeabedVotes; docs/algorithm.md, "Off-swath parts").
+// A return at a range where the seabed lies on the arc is not, nor is any
+// return while no seabed is known. A seabed rising toward the sonar explains
+// returns a flat one would not.
+TEST(FlsUpdate, VotesNearerThanTheSeabedOnTheirArcAreCountedAboveIt) {
+    Fixture fx;
+    fx.cfg.fls_once_per_frame = true;
+    fx.cfg.fls_free_space = true;
+    FlsUpdater up(fx.model, fx.cfg, fx.map);
+    // Flat seabed 4 m below the sensor: the steepest ray (47 deg) meets it,
+    // raised by the margin (0.05 m: half a voxel, rms 0), at 5.40 m.
+    SeabedFit flat;
+    flat.depth = 4.0;
+    const int col = 48, row_near = 290, row_far = 234;  // 4.80 m and 5.80 m
+    auto frame = test::blankFrame(fx.geom, 0);
+    test::setPixel(frame, row_near, col, 255);
+    test::setPixel(frame, row_far, col, 255);
+    (void)up.apply(frame.view, fx.sensor, fx.map);  // no seabed known yet
+    const std::size_t near_voxel = fx.expectedVoxel(row_near, col, 2), far_voxel = fx.expectedVoxel(row_far, col, 2);
+    EXPECT_EQ(fx.map.flsAboveSeabedVotes(near_voxel), 0) << "counted without a seabed";
+    up.setSeabed(flat);
+    for (int i = 0; i < 2; ++i) {
+        const FlsUpdateStats st = up.apply(frame.view, fx.sensor, fx.map);
+        EXPECT_GT(st.voxels_above_seabed, 0);
+    }
+    for (int k = 0; k < 5; ++k) {
+        EXPECT_EQ(fx.map.flsAboveSeabedVotes(fx.expectedVoxel(row_near, col, k)), 2) << "arc sample " << k;
+        EXPECT_EQ(fx.map.flsAboveSeabedVotes(fx.expectedVoxel(row_far, col, k)), 0) << "arc sample " << k;
+    }
+    EXPECT_GT(fx.map.logOdds(far_voxel), 0.0f);  // voted all the same
+    // Rising 0.2 m per m ahead, the seabed meets the steepest ray at 4.55 m:
+    // the 4.80 m return may now be seabed.
+    SeabedFit rising = flat;
+    rising.gradient = Eigen::Vector2d(-0.2, 0.0);
+    up.setSeabed(rising);
+    EXPECT_EQ(up.apply(frame.view, fx.sensor, fx.map).voxels_above_seabed, 0);
+    EXPECT_EQ(fx.map.flsAboveSeabedVotes(near_voxel), 2);
+}

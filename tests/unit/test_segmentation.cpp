@@ -481,3 +481,43 @@ TEST(SegmentationEchoField, SeabedHeightIsTheMeanOfItsEchoVoxelCentres) {
     EXPECT_NEAR(old.objects()[0].bbox_max.z(), 15.0 + 8.0, 1e-6) << "with top faces the bottom layer was lost";
 }
 
+
+// Outside the PS swath the FLS alone sees an object's far side. Where its
+// votes came from returns nearer than the seabed anywhere on their beams'
+// arcs (VoxelMap::flsAboveSeabedVotes), something stood above the seabed
+// there: enough such votes to be occupied on their own
+// (fls_above_seabed_min_votes) let those voxels join the PS-confirmed object.
+// Voted only by returns the seabed explains (the fan-edge bands beside every
+// pass), they stay out. Before this rule the wing was never reported.
+TEST(Segmentation, OffSwathVoxelsVotedAboveTheSeabedExtendAConfirmedObject) {
+    auto sceneWithWing = [](VoxelMap& m, int above_seabed_votes, bool detached) {
+        buildScene(m, true);
+        const int x0 = detached ? 60 : 50;  // the wing beside the box (ix 50..55), or 10 voxels away
+        for (int iz = 70; iz < 80; ++iz)
+            for (int iy = 45; iy <= 50; ++iy)
+                for (int ix = x0; ix < x0 + 6; ++ix) {
+                    const std::size_t v = m.linear({ix, iy, iz});
+                    m.add(v, 3.0f);  // occupied, never seen by the PS
+                    m.setFlsAboveSeabedVotes(v, static_cast<uint8_t>(above_seabed_votes));
+                }
+    };
+    SegmentationConfig cfg = occupiedSurfaceRules();
+    ASSERT_EQ(cfg.fls_above_seabed_min_votes, 4);
+    auto objectVoxels = [&](int votes, bool detached) {
+        VoxelMap m{MapConfig{}};
+        sceneWithWing(m, votes, detached);
+        Segmenter seg(cfg, true, m);
+        const SegmentationStats& st = seg.run(m);
+        EXPECT_EQ(st.objects, 1);
+        return st.objects == 1 ? seg.objects()[0].voxel_count : -1;
+    };
+    const int box = objectVoxels(0, false);
+    // The wing's first column is within the PS confirmation radius of the box.
+    EXPECT_EQ(box, 10 * 6 * 10 + 10 * 6);
+    EXPECT_EQ(objectVoxels(3, false), box) << "three votes are not enough to be occupied on their own";
+    EXPECT_EQ(objectVoxels(4, false), box + 5 * 10 * 6) << "the off-swath wing was not joined";
+    // Such voxels never seed an object: a detached group stays unreported.
+    EXPECT_EQ(objectVoxels(255, true), 10 * 6 * 10);
+    cfg.fls_above_seabed_min_votes = 0;  // the rule off
+    EXPECT_EQ(objectVoxels(255, false), box);
+}

@@ -13,6 +13,8 @@
 #include <limits>
 #include <vector>
 
+#include "sonarfusion/beam_direction.hpp"
+
 #include "update_stream.hpp"
 
 using namespace sonarfusion;
@@ -24,6 +26,11 @@ int main(int argc, char** argv) {
     app.add_option("--config", config_path, "mapper YAML config")->check(CLI::ExistingFile);
     app.add_option("--out", out_path, "counts file (format: tools/bench/fls_likelihood.py)")
         ->required();
+    double seabed_depth = std::numeric_limits<double>::quiet_NaN(), seabed_margin = 0.1;
+    app.add_option("--seabed-depth", seabed_depth,
+                   "world z of a flat seabed: also count votes the seabed cannot explain (the voxel "
+                   "lies nearer than the seabed does anywhere on its beam's elevation arc)");
+    app.add_option("--seabed-margin", seabed_margin, "m subtracted from that nearest seabed range");
     CLI11_PARSE(app, argc, argv);
 
     DaemonConfig dcfg;
@@ -39,14 +46,36 @@ int main(int argc, char** argv) {
     const sfbench::UpdateStream& s = rec.stream;
     VoxelMap map(dcfg.mapper.map);
     map.initialiseAt(s.map_centre);
-    std::vector<uint16_t> voted(map.size(), 0), freed(map.size(), 0);
+    std::vector<uint16_t> voted(map.size(), 0), freed(map.size(), 0), above(map.size(), 0);
+    const FlsGeometry& fg = dcfg.mapper.fls;
+    // The nearest range at which a beam at this bearing meets the flat seabed:
+    // over its elevation arc, the steepest ray.
+    auto nearestSeabed = [&](const Eigen::Isometry3d& wfs, double bearing) {
+        double best = std::numeric_limits<double>::infinity();
+        for (int k = 0; k <= 14; ++k) {
+            const double e = fg.elevation_min + k * (fg.elevation_max - fg.elevation_min) / 14.0;
+            const Eigen::Vector3d d = wfs.linear() * beamDirection(fg.tilt + e, bearing);
+            if (d.z() > 1e-6) best = std::min(best, (seabed_depth - wfs.translation().z()) / d.z());
+        }
+        return best;
+    };
     auto bump = [](uint16_t& c) { c = static_cast<uint16_t>(c + (c < std::numeric_limits<uint16_t>::max())); };
     for (const sfbench::MessageRecord& m : s.messages) {
         if (m.kind != sfbench::MessageRecord::Fls) continue;
         // Per-frame counting: each voxel appears at most once per frame.
         for (uint32_t u = m.begin; u < m.end; ++u) {
             const sfbench::VoxelUpdate& up = s.updates[u];
-            if (s.update_flag[u] & VoxelMap::kFlsTouched) bump(voted[up.voxel]);
+            if (s.update_flag[u] & VoxelMap::kFlsTouched) {
+                bump(voted[up.voxel]);
+                if (seabed_depth == seabed_depth) {
+                    const std::size_t nx = static_cast<std::size_t>(map.nx()), ny = static_cast<std::size_t>(map.ny());
+                    const std::size_t ix = up.voxel % nx, iy = (up.voxel / nx) % ny, iz = up.voxel / (nx * ny);
+                    const Eigen::Vector3d c = map.origin() + map.resolution() * Eigen::Vector3d(ix + 0.5, iy + 0.5, iz + 0.5);
+                    const Eigen::Vector3d ps = m.world_from_sensor.inverse() * c;
+                    const double bearing = std::atan2(ps.y(), ps.x());
+                    if (ps.norm() < nearestSeabed(m.world_from_sensor, bearing) - seabed_margin) bump(above[up.voxel]);
+                }
+            }
             else if (up.delta < 0.0f) bump(freed[up.voxel]);
         }
     }
@@ -60,6 +89,8 @@ int main(int argc, char** argv) {
     out.write(reinterpret_cast<const char*>(origin), sizeof origin);
     out.write(reinterpret_cast<const char*>(voted.data()), static_cast<std::streamsize>(voted.size() * 2));
     out.write(reinterpret_cast<const char*>(freed.data()), static_cast<std::streamsize>(freed.size() * 2));
+    if (seabed_depth == seabed_depth)
+        out.write(reinterpret_cast<const char*>(above.data()), static_cast<std::streamsize>(above.size() * 2));
     if (!out) {
         std::fprintf(stderr, "sf-fls-evidence: cannot write %s\n", out_path.c_str());
         return 1;

@@ -122,6 +122,7 @@ public:
         if (!fls_ && !out_.rays.empty()) out_.rays.back().end_update = static_cast<uint32_t>(out_.updates.size());
     }
     void echo(std::size_t /*v*/) {}  // flags and echo counts are not part of the log-odds stream
+    void aboveSeabed(std::size_t /*v*/) {}  // nor the above-seabed vote counts
     void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end) {
         const auto at = static_cast<uint32_t>(out_.updates.size());
         out_.rays.push_back(CarvingRay{origin, end, at, at});

@@ -195,6 +195,14 @@ struct SegmentationConfig {
     // the wider FLS fan) may extend a PS-confirmed object by up to this many
     // voxels (26-connected steps), on FLS evidence alone; they never seed one.
     int fls_only_extension = 0;
+    // Voxels no PS ray ever crossed or ended in join a PS-confirmed object
+    // (from any side, any number of steps; they never seed one) when at least
+    // this many FLS frames voted them with a return the seabed cannot explain
+    // (VoxelMap::flsAboveSeabedVotes). 0: off. The YAML loader derives it when
+    // absent: the fewest full-intensity votes that alone reach
+    // occupied_probability, ceil(logit(occupied_probability) /
+    // (alpha_fls logit(p_occupied))); 4 with the defaults.
+    int fls_above_seabed_min_votes = 4;
     // Occupied voxels the PS did not confirm join an object when they lie
     // straight below one of its voxels (down to the seabed baseline): the PS
     // looks down at 20-60 deg and never sees under an object's top edge or the

@@ -7,10 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include "sonarfusion/config.hpp"
 #include "sonarfusion/fls_model.hpp"
+#include "sonarfusion/seabed_fit.hpp"
 #include "sonarfusion/update_sink.hpp"
 #include "sonarfusion/voxel_map.hpp"
 
@@ -22,6 +25,7 @@ struct FlsUpdateStats {
     int points_outside_map = 0;  // skipped, never written
     int voxels_updated = 0;      // occupied updates
     int voxels_freed = 0;        // free-space updates
+    int voxels_above_seabed = 0; // voted by a return the seabed cannot explain
 };
 
 class FlsUpdater {
@@ -48,6 +52,14 @@ public:
     // The slot apply() and the table accessors below use (0 after construction).
     void select(int geometry) { current_ = geometry; }
     [[nodiscard]] int selected() const { return current_; }
+
+    // The seabed the following frames are judged against (none: no vote is
+    // counted as above it). A return nearer than this plane, raised by three
+    // times its rms scatter plus half a voxel, anywhere on its beam's elevation
+    // arc cannot come from the seabed: the voxels it votes are told to the sink
+    // (aboveSeabed), once per frame, to count (docs/algorithm.md, "Off-swath parts").
+    void setSeabed(const std::optional<SeabedFit>& seabed) { seabed_ = seabed; }
+    [[nodiscard]] const std::optional<SeabedFit>& seabed() const { return seabed_; }
 
     // The frame must already match the model (FlsModel::frameMatches).
     FlsUpdateStats apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map);
@@ -87,6 +99,9 @@ private:
     };
     void buildTables(Geometry& g, const FlsModel& model) const;
     [[nodiscard]] static std::size_t tableSize(int cols, int nv, int samples);
+    // Per column of the selected geometry: the range (voxel units) below which
+    // a return cannot be the seabed (seabed_); 0 (none) without a seabed.
+    void computeSeabedRanges(const Geometry& g, const Eigen::Vector3d& sensor_world, double resolution);
 
     UpdateConfig cfg_;
     float increment_;       // delta L_o * alpha_F
@@ -99,6 +114,9 @@ private:
     std::vector<uint32_t> slot_;                    // per voxel: 1 + index into touched_, 0 = untouched
     std::vector<uint32_t> touched_;                 // voxels hit or freed in this frame
     std::vector<uint8_t> strongest_;                // strongest intensity per touched voxel, 0 = freed
+    std::vector<uint8_t> above_seabed_;             // per touched voxel: a vote the seabed cannot explain
+    std::optional<SeabedFit> seabed_;
+    std::vector<float> seabed_range_;               // per column, voxel units (computeSeabedRanges)
 };
 
 // Template body: the mapper instantiates it with MapWriterSink, the bench with a recorder.
@@ -116,6 +134,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     const int nx = map.nx(), ny = map.ny(), nz = map.nz();
     const bool dedupe = cfg_.fls_once_per_frame || cfg_.fls_free_space;
     std::size_t n_touched = 0;
+    computeSeabedRanges(g, world_from_sensor.translation(), map.resolution());
 
     for (int row = 0; row < frame.rows; ++row) {
         const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
@@ -127,6 +146,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             if (intensity <= cfg_.fls_intensity_threshold) continue;  // paper 2.2: > 150 only
             ++st.pixels_above_threshold;
             const Eigen::Vector3f* dir = row_table + static_cast<std::size_t>(col) * n;
+            const bool above_seabed = range < seabed_range_[static_cast<std::size_t>(col)];
             for (int k = 0; k < n; ++k) {
                 const int64_t v = voxelOf(sensor + range * dir[k], nx, ny, nz);  // Eq. 4, in voxel units
                 if (v < 0) {
@@ -138,15 +158,23 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
                     // Eq. 6 per candidate point, then the clamp of Eq. 8.
                     sink.add(static_cast<std::size_t>(v), increment_ * intensity / 255.0f, VoxelMap::kFlsTouched);
                     ++st.voxels_updated;
-                    if (!dedupe) continue;  // else remember the hit, so free space skips it
+                    if (!dedupe) {
+                        if (above_seabed) {
+                            sink.aboveSeabed(static_cast<std::size_t>(v));
+                            ++st.voxels_above_seabed;
+                        }
+                        continue;
+                    }  // else remember the hit, so free space skips it
                 }
                 uint32_t& s = slot_[v];
                 if (s == 0) {
                     touched_[n_touched] = static_cast<uint32_t>(v);
                     strongest_[n_touched] = intensity;
+                    above_seabed_[n_touched] = above_seabed;
                     s = static_cast<uint32_t>(++n_touched);
-                } else if (strongest_[s - 1] < intensity) {
-                    strongest_[s - 1] = intensity;
+                } else {
+                    if (strongest_[s - 1] < intensity) strongest_[s - 1] = intensity;
+                    above_seabed_[s - 1] |= above_seabed;
                 }
             }
         }
@@ -184,10 +212,16 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
         if (strongest_[i] == 0) {
             sink.add(v, free_increment_, 0);
             ++st.voxels_freed;
-        } else if (cfg_.fls_once_per_frame) {
-            sink.add(v, increment_ * strongest_[i] / 255.0f, VoxelMap::kFlsTouched);
-            ++st.voxels_updated;
-        }  // else: every hit point was applied in the loop above
+        } else {
+            if (cfg_.fls_once_per_frame) {
+                sink.add(v, increment_ * strongest_[i] / 255.0f, VoxelMap::kFlsTouched);
+                ++st.voxels_updated;
+            }  // else: every hit point was applied in the loop above
+            if (above_seabed_[i]) {
+                sink.aboveSeabed(v);
+                ++st.voxels_above_seabed;
+            }
+        }
         slot_[v] = 0;
     }
     return st;

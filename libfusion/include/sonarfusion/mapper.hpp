@@ -169,6 +169,9 @@ private:
     // The cache slot holding the frame's geometry, filled (LRU) when absent;
     // -1 none (max_geometries 1), -2 it did not fit (bad geometry).
     int flsGeometrySlot(const FlsFrame& frame);
+    // The detector's seabed plane where the FLS boresight meets the seabed
+    // (the FLS update judges its returns against it); none before it has one.
+    [[nodiscard]] std::optional<SeabedFit> seabedAhead(const Eigen::Isometry3d& world_from_sensor) const;
     void markLeftMaps(const Eigen::Vector3d& vehicle);
     // Whether a sensor at `p` with this maximum range can reach the slot's map.
     [[nodiscard]] bool reaches(int slot, const Eigen::Vector3d& p, double range) const;

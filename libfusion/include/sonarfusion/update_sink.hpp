@@ -1,6 +1,6 @@
 // Where the updaters' voxel updates go. The mapper writes them into its map
 // (MapWriterSink); a benchmark or a test can record the very same stream by
-// passing its own sink with the same three calls.
+// passing its own sink with the same four calls.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,6 +15,7 @@ namespace sonarfusion {
 //   void add(std::size_t voxel, float delta, uint8_t flag)  // log-odds update, then set flag
 //   void echo(std::size_t voxel)                            // a PS echo ended here (flag + count)
 //   void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end)  // a PS ray starts
+//   void aboveSeabed(std::size_t voxel)                     // an FLS vote the seabed cannot explain
 class MapWriterSink {
 public:
     explicit MapWriterSink(VoxelMap& map) : map_(map), out_(map.writer()) {}
@@ -27,6 +28,7 @@ public:
         map_.addPsEcho(v);
     }
     void ray(const Eigen::Vector3d& /*origin*/, const Eigen::Vector3d& /*end*/) {}
+    void aboveSeabed(std::size_t v) { map_.addFlsAboveSeabedVote(v); }
 
 private:
     VoxelMap& map_;

@@ -39,6 +39,9 @@ public:
     // saturating at kPsEchoMax, so a saved map keeps them in its flag byte.
     static constexpr int kPsEchoShift = 2;
     static constexpr uint8_t kPsEchoMax = 63;
+    // Saturation of the per-voxel count of FLS frames whose vote the seabed
+    // cannot explain (flsAboveSeabedVotes).
+    static constexpr uint8_t kAboveSeabedVotesMax = 255;
 
     explicit VoxelMap(const MapConfig& cfg);
 
@@ -79,6 +82,16 @@ public:
         if (psEchoCount(i) < kPsEchoMax) flags_[i] = static_cast<uint8_t>(flags_[i] + (1u << kPsEchoShift));
     }
 
+    // Frames in which an FLS return nearer than the seabed anywhere on its
+    // beam's elevation arc voted this voxel: something stood above the seabed
+    // on that arc (docs/algorithm.md, "Off-swath parts: votes the seabed cannot
+    // explain"). Saturates at kAboveSeabedVotesMax.
+    [[nodiscard]] int flsAboveSeabedVotes(std::size_t i) const { return above_seabed_votes_[i]; }
+    void addFlsAboveSeabedVote(std::size_t i) {
+        if (above_seabed_votes_[i] < kAboveSeabedVotesMax) ++above_seabed_votes_[i];
+    }
+    void setFlsAboveSeabedVotes(std::size_t i, uint8_t n) { above_seabed_votes_[i] = n; }
+
     // Eqs. 6/13 followed by the clamp of Eqs. 7-8 (min/max compiles branch-free).
     void add(std::size_t i, float delta) {
         log_odds_[i] = std::min(std::max(log_odds_[i] + delta, clamp_min_), clamp_max_);
@@ -107,11 +120,12 @@ public:
 
     [[nodiscard]] float clampMin() const { return clamp_min_; }
     [[nodiscard]] float clampMax() const { return clamp_max_; }
-    // Checkpoints: origin, anchoring, log-odds and flags (sizes must match).
+    // Checkpoints: origin, anchoring, log-odds, flags and above-seabed votes (sizes must match).
     void saveState(StateWriter& w) const;
     [[nodiscard]] bool loadState(StateReader& r);
     [[nodiscard]] const std::vector<float>& logOddsData() const { return log_odds_; }
     [[nodiscard]] const std::vector<uint8_t>& flagsData() const { return flags_; }
+    [[nodiscard]] const std::vector<uint8_t>& aboveSeabedVotesData() const { return above_seabed_votes_; }
 
 private:
     int nx_, ny_, nz_;
@@ -122,6 +136,7 @@ private:
     bool initialised_ = false;
     std::vector<float> log_odds_;
     std::vector<uint8_t> flags_;
+    std::vector<uint8_t> above_seabed_votes_;
 };
 
 }  // namespace sonarfusion
