@@ -30,8 +30,7 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
     if (cfg_.fls_once_per_frame || cfg_.fls_free_space) {
         slot_.assign(map.size(), 0u);
         touched_.resize(map.size());
-        strongest_.resize(map.size());
-        above_seabed_.resize(map.size());
+        hit_.resize(map.size());
     }
     seabed_range_.assign(static_cast<std::size_t>(std::max(model.colCapacity(), model.cols())), 0.0f);
 }

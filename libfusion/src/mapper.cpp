@@ -1,6 +1,5 @@
 #include "sonarfusion/mapper.hpp"
 
-#include "sonarfusion/beam_direction.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -323,16 +322,6 @@ int Mapper::flsGeometrySlot(const FlsFrame& frame) {
     return victim;
 }
 
-std::optional<SeabedFit> Mapper::seabedAhead(const Eigen::Isometry3d& world_from_sensor) const {
-    const std::optional<double> depth = detector_.baseline();
-    if (!depth) return std::nullopt;
-    const Eigen::Vector3d s = world_from_sensor.translation();
-    const Eigen::Vector3d d = world_from_sensor.linear() * beamDirection(cfg_.fls.tilt, 0.0);
-    Eigen::Vector2d xy = s.head<2>();
-    if (d.z() > 1e-3 && *depth > s.z()) xy += d.head<2>() * ((*depth - s.z()) / d.z());
-    return detector_.seabedAt(xy);
-}
-
 Outcome Mapper::addFls(const FlsFrame& frame) {
     ++counters_.fls_in;
     if (frame.hasGeometry()) {
@@ -358,7 +347,11 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
         range_max = fls_models_[static_cast<std::size_t>(geometry) - 1].rangeMax();
     }
     fls_updater_.select(geometry);
-    fls_updater_.setSeabed(seabedAhead(world_from_sensor));
+    // The seabed the FLS judges its returns against: the detector's plane
+    // around its newest PS echo. The PS looks down at about the FLS's tilt, so
+    // that is about where the FLS boresight meets the seabed; the plane's
+    // gradient carries it across the fan.
+    fls_updater_.setSeabed(detector_.seabedAtNewestEcho());
     for (int s = 0; s < slotCount(); ++s) {
         if (!updatable(s)) continue;
         if (!reaches(s, world_from_sensor.translation(), range_max)) continue;

@@ -27,6 +27,15 @@ void ObjectDetector::reset() {
     last_xy_.setZero();
     detection_.reset();
     detections_ = 0;
+    newest_fit_valid_ = false;
+}
+
+const std::optional<SeabedFit>& ObjectDetector::seabedAtNewestEcho() const {
+    if (!newest_fit_valid_) {
+        newest_fit_ = seabed_count_ > 0 ? seabedAt(last_xy_) : std::nullopt;
+        newest_fit_valid_ = true;
+    }
+    return newest_fit_;
 }
 
 // Least-squares plane through the seabed echoes within seabed_radius of xy. The
@@ -110,6 +119,7 @@ bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
     if (!p.allFinite()) return false;
     const Eigen::Vector2d xy = p.head<2>();
     last_xy_ = xy;
+    newest_fit_valid_ = false;
     const std::optional<SeabedFit> seabed = seabedAt(xy);
     // NED: up is -z, so an echo that rose above the seabed has a smaller z.
     if (!seabed || !(p.z() < seabed->depthAt(xy) - riseThreshold(*seabed))) {
@@ -185,6 +195,7 @@ bool ObjectDetector::loadState(StateReader& r) {
         return false;
     detection_.reset();
     if (has) detection_ = d;
+    newest_fit_valid_ = false;  // recomputed from the loaded ring on demand
     return true;
 }
 

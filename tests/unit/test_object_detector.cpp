@@ -101,3 +101,39 @@ TEST(ObjectDetector, ARoughSeabedSeenMostlyOnItsCrestsIsNotARise) {
             << "false detection at x " << x;
     }
 }
+
+// The FLS judges its returns against the seabed plane around the newest echo
+// (seabedAtNewestEcho, docs/algorithm.md "Off-swath parts"). It is cached
+// between echoes, so it must follow every new echo, match a fresh fit there,
+// and come out the same from a restored checkpoint (resume is byte-exact).
+TEST(ObjectDetector, TheSeabedAtTheNewestEchoFollowsEveryEchoAndSurvivesACheckpoint) {
+    ObjectDetector det{DetectorConfig{}};
+    EXPECT_FALSE(det.seabedAtNewestEcho().has_value());
+    const double slope = std::tan(3.0 * M_PI / 180.0);
+    auto depth = [&](double x) { return 20.0 - slope * x; };
+    std::optional<SeabedFit> before;
+    for (int i = 0; i < 600; ++i) {
+        const double x = i * 0.01, y = 0.5 * std::sin(i * 0.3);
+        (void)det.addEchoPoint(Eigen::Vector3d(x, y, depth(x)));
+        const std::optional<SeabedFit>& f = det.seabedAtNewestEcho();
+        const std::optional<SeabedFit> fresh = det.seabedAt(Eigen::Vector2d(x, y));
+        ASSERT_EQ(f.has_value(), fresh.has_value()) << "echo " << i;
+        if (!f) continue;
+        EXPECT_EQ(f->depth, fresh->depth);
+        EXPECT_EQ(f->gradient, fresh->gradient);
+        EXPECT_NEAR(f->depthAt(Eigen::Vector2d(x + 4.0, y)), depth(x + 4.0), 0.02) << "echo " << i;
+        before = f;
+    }
+    ASSERT_TRUE(before.has_value());
+    std::vector<uint8_t> buf(1 << 20);
+    StateWriter w(buf.data(), buf.size());
+    det.saveState(w);
+    ObjectDetector restored{DetectorConfig{}};
+    StateReader r(buf.data(), w.size());
+    ASSERT_TRUE(restored.loadState(r));
+    ASSERT_TRUE(restored.seabedAtNewestEcho().has_value());
+    EXPECT_EQ(restored.seabedAtNewestEcho()->depth, before->depth);
+    EXPECT_EQ(restored.seabedAtNewestEcho()->gradient, before->gradient);
+    det.reset();
+    EXPECT_FALSE(det.seabedAtNewestEcho().has_value());
+}

@@ -5,6 +5,12 @@
 // sensor model: how often a surface is seen through, and how often water is
 // voted (docs/algorithm.md, "FLS free-space weight").
 //
+// With --seabed-depth D it also counts, per voxel, the frames that voted it
+// from a return nearer than a flat seabed at depth D anywhere on the beam's
+// elevation arc (less --seabed-margin): the ground-truth version of the
+// Mapper's own above-seabed count, which judges against the detector's plane
+// (docs/algorithm.md, "Off-swath parts").
+//
 // The counts come from the very update stream the Mapper applies
 // (update_stream.hpp), so they are the mapper's own, frame by frame.
 #include <CLI/CLI.hpp>

@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 #include <unordered_map>
+#include <type_traits>
 #include <vector>
 
 #include "sonarfusion/variant.hpp"
@@ -152,6 +153,7 @@ double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, cons
     const auto t = Clock::now();
     for (std::size_t i = 0; i < p.messages; ++i) {
         const MessageRecord& m = s.messages[i];
+        if (m.kind == MessageRecord::Fls) fls.setSeabed(m.seabed);  // as the Mapper judged it
         if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
         else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
     }
@@ -298,6 +300,9 @@ double runMessages(const PipelineInputs& in, const UpdateStream& s, const Prefix
     for (std::size_t i = 0; i < p.messages; ++i) {
         const MessageRecord& m = s.messages[i];
         if (m.kind != kind) continue;
+        if constexpr (std::is_same_v<Fls, FlsUpdater>) {
+            if (m.kind == MessageRecord::Fls) fls.setSeabed(m.seabed);  // as the Mapper judged it
+        }
         if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
         else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
     }
@@ -492,8 +497,8 @@ int main(int argc, char** argv) {
     for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user, &add_only}) printRow(*r, voxelmap);
     printRow(fls_now, fls_now);
     for (const Row* r : {&ps_now, &ps_table}) printRow(*r, ps_now);
-    std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags) + FlsUpdater slots %.1f MB; OcTree %.1f MB\n",
-                map.size() * 5.0 / 1e6, map.size() * 4.0 / 1e6, octo_memory / 1e6);
+    std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags + above-seabed votes) + FlsUpdater slots %.1f MB; OcTree %.1f MB\n",
+                map.size() * 6.0 / 1e6, map.size() * 4.0 / 1e6, octo_memory / 1e6);
     if (voxelmap.ran && octo.ran) {
         const double speedup = octo.best / voxelmap.best;
         std::printf("ratio (a/b): ours is %.1fx faster than OctoMap on the identical stream  [target >= 20x: %s]\n",

@@ -174,6 +174,8 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             if (nav.poseAt(f.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used FLS frame");
             m.kind = MessageRecord::Fls;
             m.world_from_sensor = sensorToWorld(pose, cfg.fls_mount);
+            m.seabed = mapper.lastFlsSeabed();
+            fls_recorder.setSeabed(m.seabed);
             StreamSink sink(s, true);
             fls_recorder.apply(frameOf(f), m.world_from_sensor, mapper.map(), sink);
             ++s.fls_frames;

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "mapper_config_yaml.hpp"
@@ -63,6 +64,7 @@ struct MessageRecord {
     double echo_strength = 1.0;              // PS: the selected bin's intensity / 255
     uint32_t begin = 0, end = 0;             // its updates: stream.updates[begin, end)
     uint32_t ray_begin = 0, ray_end = 0;     // PS: its rays in stream.rays
+    std::optional<sonarfusion::SeabedFit> seabed;  // FLS: the seabed plane the Mapper judged its votes against
 };
 
 // A PS carving ray (sensor to echo) and its updates, for OctoMap's own ray walk.

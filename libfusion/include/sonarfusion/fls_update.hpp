@@ -113,8 +113,10 @@ private:
     std::vector<Eigen::Vector3f> world_direction_;  // the selected tables rotated into the map frame
     std::vector<uint32_t> slot_;                    // per voxel: 1 + index into touched_, 0 = untouched
     std::vector<uint32_t> touched_;                 // voxels hit or freed in this frame
-    std::vector<uint8_t> strongest_;                // strongest intensity per touched voxel, 0 = freed
-    std::vector<uint8_t> above_seabed_;             // per touched voxel: a vote the seabed cannot explain
+    // Per touched voxel: the strongest intensity that voted it (0 = freed), and
+    // kHitAboveSeabed when a vote the seabed cannot explain hit it (one store).
+    static constexpr uint16_t kHitAboveSeabed = 0x100;
+    std::vector<uint16_t> hit_;
     std::optional<SeabedFit> seabed_;
     std::vector<float> seabed_range_;               // per column, voxel units (computeSeabedRanges)
 };
@@ -147,6 +149,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             ++st.pixels_above_threshold;
             const Eigen::Vector3f* dir = row_table + static_cast<std::size_t>(col) * n;
             const bool above_seabed = range < seabed_range_[static_cast<std::size_t>(col)];
+            const uint16_t above_flag = above_seabed ? kHitAboveSeabed : 0;
             for (int k = 0; k < n; ++k) {
                 const int64_t v = voxelOf(sensor + range * dir[k], nx, ny, nz);  // Eq. 4, in voxel units
                 if (v < 0) {
@@ -169,12 +172,11 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
                 uint32_t& s = slot_[v];
                 if (s == 0) {
                     touched_[n_touched] = static_cast<uint32_t>(v);
-                    strongest_[n_touched] = intensity;
-                    above_seabed_[n_touched] = above_seabed;
+                    hit_[n_touched] = static_cast<uint16_t>(intensity | above_flag);
                     s = static_cast<uint32_t>(++n_touched);
                 } else {
-                    if (strongest_[s - 1] < intensity) strongest_[s - 1] = intensity;
-                    above_seabed_[s - 1] |= above_seabed;
+                    uint16_t& h = hit_[s - 1];
+                    h = static_cast<uint16_t>(std::max<uint16_t>(h & 0xff, intensity) | (h & kHitAboveSeabed) | above_flag);
                 }
             }
         }
@@ -199,7 +201,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
                     uint32_t& s = slot_[v];
                     if (s != 0) continue;
                     touched_[n_touched] = static_cast<uint32_t>(v);
-                    strongest_[n_touched] = 0;
+                    hit_[n_touched] = 0;
                     s = static_cast<uint32_t>(++n_touched);
                 }
             }
@@ -209,15 +211,16 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     // intensity, or the free-space update once.
     for (std::size_t i = 0; i < n_touched; ++i) {
         const uint32_t v = touched_[i];
-        if (strongest_[i] == 0) {
+        const uint16_t h = hit_[i];
+        if (h == 0) {
             sink.add(v, free_increment_, 0);
             ++st.voxels_freed;
         } else {
             if (cfg_.fls_once_per_frame) {
-                sink.add(v, increment_ * strongest_[i] / 255.0f, VoxelMap::kFlsTouched);
+                sink.add(v, increment_ * static_cast<float>(h & 0xff) / 255.0f, VoxelMap::kFlsTouched);
                 ++st.voxels_updated;
             }  // else: every hit point was applied in the loop above
-            if (above_seabed_[i]) {
+            if (h & kHitAboveSeabed) {
                 sink.aboveSeabed(v);
                 ++st.voxels_above_seabed;
             }

@@ -158,6 +158,8 @@ public:
         return slot == 0 ? fls_model_ : fls_models_[static_cast<std::size_t>(slot) - 1];
     }
     [[nodiscard]] int lastFlsGeometrySlot() const { return fls_updater_.selected(); }
+    // The seabed plane the last FLS frame's votes were judged against (none before the detector has one).
+    [[nodiscard]] const std::optional<SeabedFit>& lastFlsSeabed() const { return fls_updater_.seabed(); }
     [[nodiscard]] const PsModel& psModel() const { return ps_model_; }
 
 private:
@@ -169,9 +171,6 @@ private:
     // The cache slot holding the frame's geometry, filled (LRU) when absent;
     // -1 none (max_geometries 1), -2 it did not fit (bad geometry).
     int flsGeometrySlot(const FlsFrame& frame);
-    // The detector's seabed plane where the FLS boresight meets the seabed
-    // (the FLS update judges its returns against it); none before it has one.
-    [[nodiscard]] std::optional<SeabedFit> seabedAhead(const Eigen::Isometry3d& world_from_sensor) const;
     void markLeftMaps(const Eigen::Vector3d& vehicle);
     // Whether a sensor at `p` with this maximum range can reach the slot's map.
     [[nodiscard]] bool reaches(int slot, const Eigen::Vector3d& p, double range) const;

@@ -34,6 +34,10 @@ public:
     // Seabed plane around `xy` from the seabed echoes within seabed_radius;
     // nothing until min_seabed_echoes lie there.
     [[nodiscard]] std::optional<SeabedFit> seabedAt(const Eigen::Vector2d& xy) const;
+    // The seabed plane around the newest echo (where the PS looks now), fitted
+    // on the first call after each echo and kept until the next: a pure
+    // function of the echo rings, so a restored checkpoint gives the same.
+    [[nodiscard]] const std::optional<SeabedFit>& seabedAtNewestEcho() const;
     // Seabed depth (NED z, m) under the newest echo; nothing until the fit exists.
     [[nodiscard]] std::optional<double> baseline() const;
     // The rise an echo must exceed above the fitted seabed (m).
@@ -51,6 +55,8 @@ private:
     int risen_count_ = 0, risen_next_ = 0;
     Eigen::Vector2d last_xy_ = Eigen::Vector2d::Zero();
     std::optional<Eigen::Vector3d> detection_;
+    mutable std::optional<SeabedFit> newest_fit_;  // seabedAtNewestEcho's cache
+    mutable bool newest_fit_valid_ = false;
     int64_t detections_ = 0;
 };
 

@@ -28,7 +28,7 @@ public:
         map_.addPsEcho(v);
     }
     void ray(const Eigen::Vector3d& /*origin*/, const Eigen::Vector3d& /*end*/) {}
-    void aboveSeabed(std::size_t v) { map_.addFlsAboveSeabedVote(v); }
+    void aboveSeabed(std::size_t v) { out_.addAboveSeabedVote(v); }
 
 private:
     VoxelMap& map_;

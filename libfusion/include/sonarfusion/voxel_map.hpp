@@ -104,13 +104,16 @@ public:
     class Writer {
     public:
         explicit Writer(VoxelMap& m)
-            : l_(m.log_odds_.data()), f_(m.flags_.data()), lo_(m.clamp_min_), hi_(m.clamp_max_) {}
+            : l_(m.log_odds_.data()), f_(m.flags_.data()), above_(m.above_seabed_votes_.data()), lo_(m.clamp_min_),
+              hi_(m.clamp_max_) {}
         void add(std::size_t i, float delta) { l_[i] = std::min(std::max(l_[i] + delta, lo_), hi_); }
         void setFlag(std::size_t i, uint8_t flag) { f_[i] |= flag; }
+        void addAboveSeabedVote(std::size_t i) { above_[i] = static_cast<uint8_t>(above_[i] + (above_[i] < kAboveSeabedVotesMax)); }
 
     private:
         float* l_;
         uint8_t* f_;
+        uint8_t* above_;
         float lo_, hi_;
     };
     [[nodiscard]] Writer writer() { return Writer(*this); }
