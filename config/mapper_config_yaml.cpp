@@ -117,9 +117,11 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("ps_echo_reference_above_seabed", g.ps_echo_reference_above_seabed);
     seg.read("fls_only_extension", g.fls_only_extension);
     if (seg.has("fls_above_seabed_min_votes")) seg.read("fls_above_seabed_min_votes", g.fls_above_seabed_min_votes);
-    else g.fls_above_seabed_min_votes = static_cast<int>(std::ceil(
-            logOddsFromProbability(g.occupied_probability) /
-            (m.update.alpha_fls * logOddsFromProbability(m.update.p_occupied)) - 1e-9));
+    else {  // derived from the update model (docs/mapper-config.md): 1..255 (the count saturates there)
+        const double votes = std::ceil(logOddsFromProbability(g.occupied_probability) /
+                                           (m.update.alpha_fls * logOddsFromProbability(m.update.p_occupied)) - 1e-9);
+        g.fls_above_seabed_min_votes = votes >= 1.0 ? static_cast<int>(std::min(votes, 255.0)) : 1;  // NaN: 1
+    }
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("seabed_from_lower_envelope", g.seabed_from_lower_envelope);
     seg.read("seabed_at_echo_centres", g.seabed_at_echo_centres);

@@ -1,6 +1,5 @@
 #include "sonarfusion/mapper.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

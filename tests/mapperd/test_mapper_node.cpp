@@ -255,3 +255,29 @@ TEST(DaemonConfigValidation, BadPeriodsCapacitiesChannelsAndSizesNameTheirKey) {
     EXPECT_NO_THROW((void)loadDaemonConfig(ok));
     std::remove(ok.c_str());
 }
+
+// segmentation.fls_above_seabed_min_votes, when absent, follows the update
+// model: the fewest full-intensity FLS votes that alone reach the occupied
+// threshold (docs/mapper-config.md). Given, it is taken as it is; out of
+// range it is refused by name.
+TEST(DaemonConfigValidation, TheAboveSeabedVoteThresholdIsDerivedFromTheUpdateModel) {
+    auto minVotes = [](const std::string& yaml) {
+        const std::string path = writeTemp(yaml + "\n");
+        const int n = loadDaemonConfig(path).mapper.segmentation.fls_above_seabed_min_votes;
+        std::remove(path.c_str());
+        return n;
+    };
+    EXPECT_EQ(minVotes("daemon: {segment_period_s: 2}"), 4);            // ceil(0.847 / (0.3 x 0.847))
+    EXPECT_EQ(minVotes("update: {alpha_fls: 0.6}"), 2);                  // ceil(1 / 0.6)
+    EXPECT_EQ(minVotes("segmentation: {occupied_probability: 0.9}"), 9);  // ceil(2.197 / 0.254)
+    EXPECT_EQ(minVotes("segmentation: {fls_above_seabed_min_votes: 0}"), 0);
+    EXPECT_EQ(minVotes("segmentation: {fls_above_seabed_min_votes: 7}"), 7);
+    const std::string bad = writeTemp("segmentation: {fls_above_seabed_min_votes: 256}\n");
+    try {
+        (void)loadDaemonConfig(bad);
+        ADD_FAILURE() << "accepted 256";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("segmentation.fls_above_seabed_min_votes"), std::string::npos) << e.what();
+    }
+    std::remove(bad.c_str());
+}

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <vector>
 
@@ -57,7 +56,8 @@ public:
     // counted as above it). A return nearer than this plane, raised by three
     // times its rms scatter plus half a voxel, anywhere on its beam's elevation
     // arc cannot come from the seabed: the voxels it votes are told to the sink
-    // (aboveSeabed), once per frame, to count (docs/algorithm.md, "Off-swath parts").
+    // (aboveSeabed) to count, once per frame (per candidate point in the paper's
+    // counting, without free space) (docs/algorithm.md, "Off-swath parts").
     void setSeabed(const std::optional<SeabedFit>& seabed) { seabed_ = seabed; }
     [[nodiscard]] const std::optional<SeabedFit>& seabed() const { return seabed_; }
 
