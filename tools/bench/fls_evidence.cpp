@@ -14,6 +14,7 @@
 // The counts come from the very update stream the Mapper applies
 // (update_stream.hpp), so they are the mapper's own, frame by frame.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -66,18 +67,17 @@ int main(int argc, char** argv) {
         return best;
     };
     auto bump = [](uint16_t& c) { c = static_cast<uint16_t>(c + (c < std::numeric_limits<uint16_t>::max())); };
+    const bool count_above = !std::isnan(seabed_depth);
     for (const sfbench::MessageRecord& m : s.messages) {
         if (m.kind != sfbench::MessageRecord::Fls) continue;
+        const Eigen::Isometry3d sensor_from_world = m.world_from_sensor.inverse();
         // Per-frame counting: each voxel appears at most once per frame.
         for (uint32_t u = m.begin; u < m.end; ++u) {
             const sfbench::VoxelUpdate& up = s.updates[u];
             if (s.update_flag[u] & VoxelMap::kFlsTouched) {
                 bump(voted[up.voxel]);
-                if (seabed_depth == seabed_depth) {
-                    const std::size_t nx = static_cast<std::size_t>(map.nx()), ny = static_cast<std::size_t>(map.ny());
-                    const std::size_t ix = up.voxel % nx, iy = (up.voxel / nx) % ny, iz = up.voxel / (nx * ny);
-                    const Eigen::Vector3d c = map.origin() + map.resolution() * Eigen::Vector3d(ix + 0.5, iy + 0.5, iz + 0.5);
-                    const Eigen::Vector3d ps = m.world_from_sensor.inverse() * c;
+                if (count_above) {
+                    const Eigen::Vector3d ps = sensor_from_world * map.centreOf(map.fromLinear(up.voxel));
                     const double bearing = std::atan2(ps.y(), ps.x());
                     if (ps.norm() < nearestSeabed(m.world_from_sensor, bearing) - seabed_margin) bump(above[up.voxel]);
                 }
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
     out.write(reinterpret_cast<const char*>(origin), sizeof origin);
     out.write(reinterpret_cast<const char*>(voted.data()), static_cast<std::streamsize>(voted.size() * 2));
     out.write(reinterpret_cast<const char*>(freed.data()), static_cast<std::streamsize>(freed.size() * 2));
-    if (seabed_depth == seabed_depth)
+    if (count_above)
         out.write(reinterpret_cast<const char*>(above.data()), static_cast<std::streamsize>(above.size() * 2));
     if (!out) {
         std::fprintf(stderr, "sf-fls-evidence: cannot write %s\n", out_path.c_str());

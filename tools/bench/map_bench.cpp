@@ -153,9 +153,12 @@ double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, cons
     const auto t = Clock::now();
     for (std::size_t i = 0; i < p.messages; ++i) {
         const MessageRecord& m = s.messages[i];
-        if (m.kind == MessageRecord::Fls) fls.setSeabed(m.seabed);  // as the Mapper judged it
-        if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
-        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
+        if (m.kind == MessageRecord::Fls) {
+            fls.setSeabed(m.seabed);  // as the Mapper judged it
+            fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
+        } else {
+            carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
+        }
     }
     return secondsSince(t);
 }

@@ -85,11 +85,8 @@ public:
     // Frames in which an FLS return nearer than the seabed anywhere on its
     // beam's elevation arc voted this voxel: something stood above the seabed
     // on that arc (docs/algorithm.md, "Off-swath parts: votes the seabed cannot
-    // explain"). Saturates at kAboveSeabedVotesMax.
+    // explain"). Saturates at kAboveSeabedVotesMax (Writer::addAboveSeabedVote).
     [[nodiscard]] int flsAboveSeabedVotes(std::size_t i) const { return above_seabed_votes_[i]; }
-    void addFlsAboveSeabedVote(std::size_t i) {
-        if (above_seabed_votes_[i] < kAboveSeabedVotesMax) ++above_seabed_votes_[i];
-    }
     void setFlsAboveSeabedVotes(std::size_t i, uint8_t n) { above_seabed_votes_[i] = n; }
 
     // Eqs. 6/13 followed by the clamp of Eqs. 7-8 (min/max compiles branch-free).
