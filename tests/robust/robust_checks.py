@@ -1,6 +1,10 @@
 #!/usr/bin/env python3
 """Issue 10's robustness tests (ctest -L robust), each on the reference mission:
 
+  robust_checks.py simulate ROOT BUILD SCENARIO OUT HOSTILE
+      the fixture: simulates the mission once into OUT/../shared/run.lcmlog,
+      which every test below reads (a test run alone simulates it itself).
+
   robust_checks.py offline_kill ROOT BUILD SCENARIO OUT HOSTILE
       sf-mapper --log with --checkpoint, SIGKILLed three times and resumed: the
       final map is byte-identical to an uninterrupted run; every checkpoint on
@@ -62,11 +66,27 @@ def config_with(root, out, **daemon):
     return path
 
 
+def shared_log(out):
+    """The reference mission's log, simulated once for every robust test (the robust_simulate
+    fixture: under ASan one simulation takes half a minute)."""
+    return os.path.join(os.path.dirname(os.path.abspath(out)), "shared", "run.lcmlog")
+
+
 def simulate(build, scenario, out):
-    log = f"{out}/run.lcmlog"
+    """The shared log; simulated here when a test runs without its fixture."""
+    log = shared_log(out)
     if not os.path.exists(log):
-        run([f"{build}/sim/sf-sim", "--scenario", scenario, "--log", log, "--threads", "1", "--quiet"])
+        make_shared_log(build, scenario, out)
     return log
+
+
+def make_shared_log(build, scenario, out):
+    log = shared_log(out)
+    os.makedirs(os.path.dirname(log), exist_ok=True)
+    partial = log + ".partial"  # renamed when whole: a killed run leaves no log to reuse
+    run([f"{build}/sim/sf-sim", "--scenario", scenario, "--log", partial, "--threads", "1", "--quiet"])
+    os.replace(partial, log)
+    check(os.path.getsize(log) > 0, f"the reference mission simulated into {log}")
 
 
 def offline_map(build, cfg, log, out, name, extra=()):
@@ -346,6 +366,9 @@ echo "exit $?" > "$OUT/hup.txt"
 if __name__ == "__main__":
     mode, root, build, scenario, out, hostile = sys.argv[1:7]
     os.makedirs(out, exist_ok=True)
+    if mode == "simulate":
+        make_shared_log(build, scenario, out)
+        sys.exit(1 if failures else 0)
     {"offline_kill": offline_kill, "live_kill": live_kill, "mixed_stream": mixed_stream, "drops": drops,
      "load": load, "damaged_log": damaged_log}[mode](root, build, scenario, out, hostile)
     if failures:
