@@ -81,6 +81,8 @@ DaemonConfig parse(const YAML::Node& root) {
     up.read("fls_once_per_frame", m.update.fls_once_per_frame);
     up.read("fls_arc_spacing_voxels", m.update.fls_arc_spacing_voxels);
     up.read("fls_free_space", m.update.fls_free_space);
+    up.read("fls_free_space_noise_sigmas", m.update.fls_free_space_noise_sigmas);
+    up.read("ps_carve_noise_sigmas", m.update.ps_carve_noise_sigmas);
     up.read("fls_free_vote_ratio", m.update.fls_free_vote_ratio);
     up.read("require_ps_observation", m.update.require_ps_observation);
     up.rejectUnknownKeys();

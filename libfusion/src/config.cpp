@@ -99,6 +99,10 @@ Check UpdateConfig::validate() const {
     if (!(p_free > 0.0 && p_free < 0.5)) return bad("p_free", "must be in (0, 0.5)");
     if (!(alpha_ps >= 0.0) || !finite(alpha_ps)) return bad("alpha_ps", "must be finite and >= 0");
     if (!inRange(fls_intensity_threshold, 0, 255)) return bad("fls_intensity_threshold", range(0, 255));
+    if (!(fls_free_space_noise_sigmas >= 0.0) || !finite(fls_free_space_noise_sigmas))
+        return bad("fls_free_space_noise_sigmas", "must be finite and >= 0 (0: free space up to the first vote)");
+    if (!(ps_carve_noise_sigmas >= 0.0) || !finite(ps_carve_noise_sigmas))
+        return bad("ps_carve_noise_sigmas", "must be finite and >= 0 (0: carve up to the selected echo)");
     // The arc sample tables are sized from it.
     if (!(fls_arc_spacing_voxels == 0.0 || (fls_arc_spacing_voxels >= 0.25 && fls_arc_spacing_voxels <= 100.0)))
         return bad("fls_arc_spacing_voxels", "must be 0 (N_v samples) or in [0.25, 100]");

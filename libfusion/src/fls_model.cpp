@@ -1,5 +1,7 @@
 #include "sonarfusion/fls_model.hpp"
 
+#include <array>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -121,6 +123,27 @@ Eigen::Vector3f FlsModel::directionAt(int col, double elevation) const {
 bool FlsModel::frameMatches(const FlsFrame& f) const {
     return f.data != nullptr && f.rows == rows_ && f.cols == cols_ &&
            f.data_size == static_cast<std::size_t>(rows_) * static_cast<std::size_t>(cols_);
+}
+
+int noiseLevel(const FlsFrame& f, double sigmas) {
+    const std::size_t n = static_cast<std::size_t>(f.rows) * f.cols;
+    if (n == 0 || f.data == nullptr) return 255;
+    std::array<uint32_t, 256> hist{};
+    for (std::size_t i = 0; i < n; ++i) ++hist[f.data[i]];
+    // The lower median of a histogram.
+    auto median = [n](const std::array<uint32_t, 256>& h) {
+        std::size_t seen = 0;
+        for (int v = 0; v < 256; ++v) {
+            seen += h[static_cast<std::size_t>(v)];
+            if (2 * seen >= n) return v;
+        }
+        return 255;
+    };
+    const int med = median(hist);
+    std::array<uint32_t, 256> dev{};
+    for (int v = 0; v < 256; ++v) dev[static_cast<std::size_t>(std::abs(v - med))] += hist[static_cast<std::size_t>(v)];
+    const double sigma = 1.4826 * std::max(1, median(dev));  // at least one count: a constant image has noise 0
+    return static_cast<int>(std::min(255.0, std::ceil(med + sigmas * sigma)));
 }
 
 }  // namespace sonarfusion

@@ -377,15 +377,21 @@ Outcome Mapper::addPs(const PsPing& ping) {
     // map being made. Carving first: a map the detector anchors on this ping
     // starts with the next one.
     bool any = false;
-    std::optional<int> group;
+    std::optional<PsEchoGroup> group;
+    double carve_range = -1.0;
     for (int s = 0; s < slotCount(); ++s) {
         if (!updatable(s)) continue;
-        if (!any) group = selectClosestGroup(ping, cfg_.ps_selection);
+        if (!any) {
+            group = closestGroup(ping, cfg_.ps_selection);
+            // Carving stops at the first bin that could be an echo (UpdateConfig::ps_carve_noise_sigmas).
+            if (group) carve_range = carveStopRange(ping, *group, cfg_.ps_selection, cfg_.update.ps_carve_noise_sigmas);
+        }
         any = true;
         if (!group || !cfg_.update.ps_carving_enabled) continue;
         if (!reaches(s, world_from_sensor.translation(), ping.range_max)) continue;
-        const PsCarveStats st = ps_carver_.apply(ping.head_angle, rangeOfBin(ping, *group), world_from_sensor,
-                                                 maps_[static_cast<std::size_t>(s)], ping.intensity[*group] / 255.0);
+        const PsCarveStats st = ps_carver_.apply(ping.head_angle, rangeOfBin(ping, group->peak), world_from_sensor,
+                                                 maps_[static_cast<std::size_t>(s)], ping.intensity[group->peak] / 255.0,
+                                                 carve_range);
         counters_.ps_endpoints_outside_map += st.endpoints_outside_map;
         if (st.endpoints_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
     }

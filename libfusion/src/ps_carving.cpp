@@ -1,5 +1,6 @@
 #include "sonarfusion/ps_carving.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 
@@ -10,10 +11,19 @@ PsCarver::PsCarver(const PsModel& model, const UpdateConfig& cfg)
       free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free))),
       hit_increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied))) {}
 
+double carveStopRange(const PsPing& ping, const PsEchoGroup& group, const PsSelectionConfig& selection,
+                      double noise_sigmas) {
+    if (!(noise_sigmas > 0.0)) return -1.0;
+    int stop = group.first;
+    const int echo = firstEchoBin(ping, selection, noise_sigmas);
+    if (echo >= 0) stop = std::min(stop, echo);
+    return stop >= group.peak ? -1.0 : rangeOfBin(ping, stop);
+}
+
 PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                             VoxelMap& map, double echo_strength) const {
+                             VoxelMap& map, double echo_strength, double carve_range) const {
     MapWriterSink sink(map);
-    return apply(head_angle, selected_range, world_from_sensor, map, sink, echo_strength);
+    return apply(head_angle, selected_range, world_from_sensor, map, sink, echo_strength, carve_range);
 }
 
 }  // namespace sonarfusion

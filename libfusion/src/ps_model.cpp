@@ -1,6 +1,7 @@
 #include "sonarfusion/ps_model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -33,6 +34,12 @@ int firstUsableBin(const PsPing& ping, const PsSelectionConfig& cfg) {
 }  // namespace
 
 std::optional<int> selectClosestGroup(const PsPing& ping, const PsSelectionConfig& cfg) {
+    const std::optional<PsEchoGroup> g = closestGroup(ping, cfg);
+    if (!g) return std::nullopt;
+    return g->peak;
+}
+
+std::optional<PsEchoGroup> closestGroup(const PsPing& ping, const PsSelectionConfig& cfg) {
     if (validatePing(ping) != PsPingError::None) return std::nullopt;
     int peak = 0;
     const double norm = normaliser(ping, cfg, peak);
@@ -48,10 +55,34 @@ std::optional<int> selectClosestGroup(const PsPing& ping, const PsSelectionConfi
     int b = firstUsableBin(ping, cfg);
     while (b < ping.bins && ping.intensity[b] / norm <= threshold) ++b;
     if (b == ping.bins) return std::nullopt;
-    int best = b;
+    PsEchoGroup g{b, b};
     for (; b < ping.bins && ping.intensity[b] / norm > threshold; ++b)
-        if (ping.intensity[b] > ping.intensity[best]) best = b;
-    return best;
+        if (ping.intensity[b] > ping.intensity[g.peak]) g.peak = b;
+    return g;
+}
+
+int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas) {
+    if (validatePing(ping) != PsPingError::None) return -1;
+    const int b0 = firstUsableBin(ping, cfg);
+    const int n = ping.bins - b0;
+    if (n < 2) return -1;
+    std::array<int, 256> hist{};
+    for (int b = b0; b < ping.bins; ++b) ++hist[ping.intensity[b]];
+    auto median = [n](const std::array<int, 256>& h) {  // the lower median
+        int seen = 0;
+        for (int v = 0; v < 256; ++v) {
+            seen += h[static_cast<std::size_t>(v)];
+            if (2 * seen >= n) return v;
+        }
+        return 255;
+    };
+    const int med = median(hist);
+    std::array<int, 256> dev{};
+    for (int v = 0; v < 256; ++v) dev[static_cast<std::size_t>(std::abs(v - med))] += hist[static_cast<std::size_t>(v)];
+    const double level = med + sigmas * 1.4826 * std::max(1, median(dev));
+    for (int b = b0; b + 1 < ping.bins; ++b)
+        if (ping.intensity[b] > level && ping.intensity[b + 1] > level) return b;
+    return -1;
 }
 
 std::optional<int> maxIntensityBin(const PsPing& ping, const PsSelectionConfig& cfg) {

@@ -298,3 +298,60 @@ TEST(FlsUpdate, VotesNearerThanTheSeabedOnTheirArcAreCountedAboveIt) {
     EXPECT_EQ(up.apply(frame.view, fx.sensor, fx.map).voxels_above_seabed, 0);
     EXPECT_EQ(fx.map.flsAboveSeabedVotes(near_voxel), 2);
 }
+
+// --- Where the free space stops (UpdateConfig::fls_free_space_noise_sigmas)
+namespace {
+// Noise of median 10 and MAD 2 (6, 8, 10, 12, 14 equally often): at 4 robust
+// standard deviations the echo level is ceil(10 + 4 x 1.4826 x 2) = 22.
+void fillNoise(test::OwnedFrame& f) {
+    for (int row = 0; row < f.view.rows; ++row)
+        for (int col = 0; col < f.view.cols; ++col)
+            test::setPixel(f, row, col, static_cast<uint8_t>(6 + 2 * ((row * 7 + col * 3) % 5)));
+}
+}  // namespace
+
+TEST(FlsUpdate, TheImageNoiseLevelIsItsMedianPlusRobustDeviations) {
+    Fixture fx;
+    auto frame = test::blankFrame(fx.geom, 0);
+    fillNoise(frame);
+    EXPECT_EQ(noiseLevel(frame.view, 4.0), 22);
+    EXPECT_EQ(noiseLevel(frame.view, 0.0), 10);
+    auto flat = test::blankFrame(fx.geom, 0);
+    for (auto& p : flat.pixels) p = 10;
+    EXPECT_EQ(noiseLevel(flat.view, 4.0), 16) << "a constant image: the deviation counts as one";
+}
+
+// A surface that returns weakly (above the image's noise, below the vote
+// threshold) is not water: the free space stops there. Before this rule it ran
+// on to the first pixel above 150 and carved the weak surface (the wedge's and
+// the 60 deg box's flanks; docs/algorithm.md, "Carving stops at the first echo").
+// A lone noise pixel does not stop it.
+TEST(FlsUpdate, TheFreeSpaceStopsAtAWeakEchoAndNotAtALoneNoisePixel) {
+    const int row_weak = 300, row_vote = 200, row_spike = 400;  // ~4.6, ~6.4 and ~2.8 m
+    auto run = [&](double sigmas) {
+        Fixture fx;
+        fx.cfg.fls_free_space = true;
+        fx.cfg.fls_free_space_noise_sigmas = sigmas;
+        FlsUpdater up(fx.model, fx.cfg, fx.map);
+        auto frame = test::blankFrame(fx.geom, 0);
+        fillNoise(frame);
+        for (int c = 0; c < fx.geom.beams; ++c) {  // a wall: no neighbouring beam frees the same voxels
+            test::setPixel(frame, row_weak, c, 80);       // two consecutive rows above 22, below 150
+            test::setPixel(frame, row_weak - 1, c, 80);
+            test::setPixel(frame, row_vote, c, 204);
+        }
+        test::setPixel(frame, row_spike, 60, 90);  // one pixel only: noise
+        (void)up.apply(frame.view, fx.sensor, fx.map);
+        const double r_between = 0.83 + (511.0 - 250) / 511.0 * 9.17, r_after_spike = 4.0;
+        VoxelIndex between, after_spike;
+        EXPECT_TRUE(fx.map.worldToIndex(r_between * fx.model.directionAt(60, 0.0).cast<double>(), between));
+        EXPECT_TRUE(fx.map.worldToIndex(r_after_spike * fx.model.directionAt(60, 0.0).cast<double>(), after_spike));
+        return std::make_pair(fx.map.logOdds(fx.map.linear(between)), fx.map.logOdds(fx.map.linear(after_spike)));
+    };
+    const auto [between_noise_rule, after_spike_noise_rule] = run(4.0);
+    EXPECT_FLOAT_EQ(between_noise_rule, 0.0f) << "the water behind a weak echo was carved";
+    EXPECT_LT(after_spike_noise_rule, 0.0f) << "the lone noise pixel stopped the free space";
+    const auto [between_old, after_spike_old] = run(0.0);
+    EXPECT_LT(between_old, 0.0f) << "with 0 the free space runs up to the first vote";
+    EXPECT_LT(after_spike_old, 0.0f);
+}

@@ -83,3 +83,39 @@ TEST(PsCarving, CountsEchoesInTheEndVoxelOnly) {
     // A voxel crossed far more often than the FLS frame rate never becomes an echo.
     EXPECT_TRUE(map.psObserved(map.linear({20, 20, 30})));
 }
+
+// Carving stops at the first bin that could be an echo (UpdateConfig::
+// ps_carve_noise_sigmas): nothing from there to the selected echo is carved,
+// Eq. 13's weights along the carved part are those of the full ray, and the
+// echo stays where it was selected.
+TEST(PsCarving, ACarveRangeShortOfTheEchoLeavesTheRestOfTheRayAlone) {
+    VoxelMap full = test::originMap(), stopped = test::originMap();
+    PsModel model{singleRay()};
+    PsCarver carver(model, UpdateConfig{});
+    Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+    sensor.translation() = Eigen::Vector3d(1.05, 2.05, 3.05);  // centre of voxel (10, 20, 30)
+    (void)carver.apply(0.0, 2.0, sensor, full);
+    const PsCarveStats st = carver.apply(0.0, 2.0, sensor, stopped, 1.0, 1.5);  // carving stops at x = 2.55: voxel 25
+    EXPECT_EQ(st.voxels_carved, 15);  // voxels 10..24
+    for (int ix = 10; ix < 25; ++ix) {
+        const std::size_t v = stopped.linear({ix, 20, 30});
+        EXPECT_FLOAT_EQ(stopped.logOdds(v), full.logOdds(v)) << "voxel " << ix << ": Eq. 13's weight changed";
+    }
+    for (int ix = 25; ix < 30; ++ix) {
+        EXPECT_FLOAT_EQ(stopped.logOdds(stopped.linear({ix, 20, 30})), 0.0f) << "voxel " << ix << " carved past the stop";
+        EXPECT_LT(full.logOdds(full.linear({ix, 20, 30})), 0.0f);
+    }
+    const std::size_t echo = stopped.linear({30, 20, 30});
+    EXPECT_EQ(stopped.psEchoCount(echo), 1);
+    EXPECT_FLOAT_EQ(stopped.logOdds(echo), full.logOdds(echo));
+}
+
+TEST(PsCarving, NoiseRuleIsOnInFusedAndOffInThePaperVariant) {
+    MapperConfig fused, paper;
+    applyVariant(Variant::Fused, fused);
+    applyVariant(Variant::Paper, paper);
+    EXPECT_GT(fused.update.ps_carve_noise_sigmas, 0.0);
+    EXPECT_GT(fused.update.fls_free_space_noise_sigmas, 0.0);
+    EXPECT_EQ(paper.update.ps_carve_noise_sigmas, 0.0);
+    EXPECT_EQ(paper.update.fls_free_space_noise_sigmas, 0.0);
+}

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "sonarfusion/pose.hpp"
+#include "sonarfusion/ps_carving.hpp"
 #include "sonarfusion/ps_model.hpp"
 #include "sonarfusion/variant.hpp"
 #include "test_helpers.hpp"
@@ -138,4 +139,30 @@ TEST(PsModel, PitchAndRollMoveTheProfileWhereGeometrySays) {
     EXPECT_NEAR(d.x(), std::cos(50 * kDeg), 1e-12);
     EXPECT_NEAR(d.y(), std::sin(3 * kDeg) * std::sin(50 * kDeg), 1e-12);
     EXPECT_NEAR(d.z(), std::cos(3 * kDeg) * std::sin(50 * kDeg), 1e-12);
+}
+
+// Where carving stops (carveStopRange): at the first of two consecutive bins
+// above the ping's noise (median + 4 robust standard deviations), when that
+// comes before the nearest group, else at the group's first bin. A surface in
+// part of the fan returns below the group threshold and is still not water.
+TEST(PsSelection, CarvingStopsAtTheFirstBinThatCouldBeAnEcho) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);
+    // Noise of median 10 and MAD 2: the echo level at 4 sigmas is 10 + 4 x 1.4826 x 2 = 21.9.
+    for (int b = 0; b < 500; ++b) p.bins[b] = static_cast<uint8_t>(6 + 2 * ((b * 3) % 5));
+    p.bins[100] = 35;                     // a lone noise spike: not an echo
+    p.bins[200] = p.bins[201] = 30;       // weak (below min_peak_intensity 40): not a group
+    for (int b = 300; b < 306; ++b) p.bins[b] = 120;
+    p.bins[303] = 200;                    // the group's peak, the selected echo
+    const PsSelectionConfig cfg;
+    const std::optional<PsEchoGroup> g = closestGroup(p.view, cfg);
+    ASSERT_TRUE(g.has_value());
+    EXPECT_EQ(g->first, 300);
+    EXPECT_EQ(g->peak, 303);
+    EXPECT_EQ(*selectClosestGroup(p.view, cfg), 303);
+    EXPECT_EQ(firstEchoBin(p.view, cfg, 4.0), 200);
+    EXPECT_DOUBLE_EQ(carveStopRange(p.view, *g, cfg, 4.0), rangeOfBin(p.view, 200));
+    EXPECT_LT(carveStopRange(p.view, *g, cfg, 0.0), 0.0) << "0: carve up to the selected echo";
+    // Without the weak bins: the group's first bin.
+    p.bins[200] = p.bins[201] = 10;
+    EXPECT_DOUBLE_EQ(carveStopRange(p.view, *g, cfg, 4.0), rangeOfBin(p.view, 300));
 }

@@ -157,7 +157,7 @@ double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, cons
             fls.setSeabed(m.seabed);  // as the Mapper judged it
             fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
         } else {
-            carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
+            carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength, m.carve_range);
         }
     }
     return secondsSince(t);
@@ -181,17 +181,23 @@ public:
         table_[kSteps + 1] = table_[kSteps];
     }
     void apply(double head_angle, double range, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map,
-               double /*echo_strength: no end-point hits in this what-if*/) const {
+               double /*echo_strength: no end-point hits in this what-if*/, double carve_range) const {
         const Eigen::Vector3d origin = world_from_sensor.translation();
+        const bool shorter = carve_range >= 0.0 && carve_range < range;
+        const double t_scale = shorter ? carve_range / range : 1.0;  // as PsCarver: t is a fraction of the echo's range
         for (int k = 0; k < model_.fanSamples(); ++k) {
-            const Eigen::Vector3d end = origin + world_from_sensor.linear() * (range * model_.direction(head_angle, k));
-            const WalkResult w = walkSegment(map, origin, end, [&](std::size_t v, double t) {
-                const float x = static_cast<float>(t) * kSteps;
+            const Eigen::Vector3d dir = world_from_sensor.linear() * model_.direction(head_angle, k);
+            const Eigen::Vector3d end = origin + range * dir;
+            const WalkResult w = walkSegment(map, origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end,
+                                             [&](std::size_t v, double t) {
+                const float x = static_cast<float>(t * t_scale) * kSteps;
                 const int i = static_cast<int>(x);
                 map.add(v, table_[i] + (x - static_cast<float>(i)) * (table_[i + 1] - table_[i]));
                 map.setFlag(v, VoxelMap::kPsObserved);
             });
-            if (w.end_in_map) map.setFlag(w.end_voxel, VoxelMap::kPsObserved);
+            VoxelIndex echo;
+            if (shorter ? map.worldToIndex(end, echo) : w.end_in_map)
+                map.setFlag(shorter ? map.linear(echo) : w.end_voxel, VoxelMap::kPsObserved);
         }
     }
 
@@ -259,8 +265,11 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
             if (u.fls_free_space) {
                 // The beam's water before its first return, as FlsUpdater frees it
                 // (marked 0 in the scan set; voxels this frame hit keep the hit).
+                const int noise = u.fls_free_space_noise_sigmas > 0.0
+                                      ? std::min(u.fls_intensity_threshold, noiseLevel(frame, u.fls_free_space_noise_sigmas))
+                                      : u.fls_intensity_threshold;
                 for (int col = 0; col < f.cols; ++col) {
-                    const int first = firstReturnRow(frame, col, u.fls_intensity_threshold);
+                    const int first = firstEchoRow(frame, col, u.fls_intensity_threshold, noise);
                     const double r_first = first < 0 ? in.fls_model.rangeMax() : in.fls_model.rangeOfRow(first);
                     for (double r = in.fls_model.rangeOfRow(f.rows - 1); r < r_first - std::sqrt(3.0) * res; r += 0.5 * res) {
                         const auto [dir, nv] = dirs(r, col);
@@ -277,9 +286,11 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                 tree.updateNode(key, intensity == 0 ? fls_free : fls_increment * intensity / 255.0f);
         } else {
             for (uint32_t r = m.ray_begin; r < m.ray_end; ++r) {
-                const Eigen::Vector3d a = s.rays[r].origin - shift, b = s.rays[r].end - shift;
-                const octomap::point3d oa(float(a.x()), float(a.y()), float(a.z())), ob(float(b.x()), float(b.y()), float(b.z()));
-                const double range = (b - a).norm();
+                // Carved up to b; the echo (its hit, and Eq. 13's range) at e.
+                const Eigen::Vector3d a = s.rays[r].origin - shift, b = s.rays[r].end - shift, e = s.rays[r].echo - shift;
+                const octomap::point3d oa(float(a.x()), float(a.y()), float(a.z())), ob(float(b.x()), float(b.y()), float(b.z())),
+                    oe(float(e.x()), float(e.y()), float(e.z()));
+                const double range = (e - a).norm();
                 if (!tree.computeRayKeys(oa, ob, ray)) continue;
                 for (const octomap::OcTreeKey& key : ray) {
                     if (!grid.inGrid(key)) continue;
@@ -287,7 +298,7 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                     tree.updateNode(key, free_increment * static_cast<float>(std::exp(-alpha * dist / range)));
                 }
                 octomap::OcTreeKey end_key;
-                if (u.ps_endpoint_hits && tree.coordToKeyChecked(ob, end_key) && grid.inGrid(end_key))
+                if (u.ps_endpoint_hits && tree.coordToKeyChecked(oe, end_key) && grid.inGrid(end_key))
                     tree.updateNode(end_key, hit_increment * static_cast<float>(m.echo_strength));
             }
         }
@@ -307,7 +318,7 @@ double runMessages(const PipelineInputs& in, const UpdateStream& s, const Prefix
             if (m.kind == MessageRecord::Fls) fls.setSeabed(m.seabed);  // as the Mapper judged it
         }
         if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
-        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength);
+        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength, m.carve_range);
     }
     return secondsSince(t);
 }

@@ -123,9 +123,9 @@ public:
     }
     void echo(std::size_t /*v*/) {}  // flags and echo counts are not part of the log-odds stream
     void aboveSeabed(std::size_t /*v*/) {}  // nor the above-seabed vote counts
-    void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end) {
+    void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& carve_end, const Eigen::Vector3d& echo) {
         const auto at = static_cast<uint32_t>(out_.updates.size());
-        out_.rays.push_back(CarvingRay{origin, end, at, at});
+        out_.rays.push_back(CarvingRay{origin, carve_end, echo, at, at});
     }
 
 private:
@@ -188,16 +188,18 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             ping.range_max = p.range_max;
             ping.bins = static_cast<int>(p.intensity.size());
             ping.intensity = p.intensity.data();
-            const std::optional<int> bin = selectClosestGroup(ping, cfg.ps_selection);
+            const std::optional<PsEchoGroup> group = closestGroup(ping, cfg.ps_selection);
             if (nav.poseAt(p.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used PS ping");
             m.kind = MessageRecord::Ps;
             m.world_from_sensor = sensorToWorld(pose, cfg.ps_mount);
             m.head_angle = p.head_angle;
-            m.range = rangeOfBin(ping, *bin);  // Used implies a bin was selected
-            m.echo_strength = ping.intensity[*bin] / 255.0;
+            m.range = rangeOfBin(ping, group->peak);  // Used implies a bin was selected
+            m.echo_strength = ping.intensity[group->peak] / 255.0;
+            m.carve_range = carveStopRange(ping, *group, cfg.ps_selection, cfg.update.ps_carve_noise_sigmas);
             m.ray_begin = static_cast<uint32_t>(s.rays.size());
             StreamSink sink(s, false);
-            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, mapper.map(), sink, m.echo_strength);
+            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, mapper.map(), sink, m.echo_strength,
+                              m.carve_range);
             m.ray_end = static_cast<uint32_t>(s.rays.size());
             ++s.ps_pings;
         }

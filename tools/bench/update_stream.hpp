@@ -61,15 +61,17 @@ struct MessageRecord {
     uint32_t source;                         // index into ScenarioLog::fls / ::ps
     Eigen::Isometry3d world_from_sensor;     // pose the Mapper used
     double head_angle = 0.0, range = 0.0;    // PS: phi_p and the selected range r_s
+    double carve_range = -1.0;               // PS: where carving stops (negative: at r_s)
     double echo_strength = 1.0;              // PS: the selected bin's intensity / 255
     uint32_t begin = 0, end = 0;             // its updates: stream.updates[begin, end)
     uint32_t ray_begin = 0, ray_end = 0;     // PS: its rays in stream.rays
     std::optional<sonarfusion::SeabedFit> seabed;  // FLS: the seabed plane the Mapper judged its votes against
 };
 
-// A PS carving ray (sensor to echo) and its updates, for OctoMap's own ray walk.
+// A PS carving ray (sensor to where carving stops; the echo may lie beyond)
+// and its updates, for OctoMap's own ray walk.
 struct CarvingRay {
-    Eigen::Vector3d origin, end;
+    Eigen::Vector3d origin, end, echo;
     uint32_t begin = 0, end_update = 0;
 };
 

@@ -117,6 +117,14 @@ struct UpdateConfig {
     // are freed once per frame (a voxel the same frame also hit is left
     // alone). The paper ignores it.
     bool fls_free_space = true;
+    // Where the FLS's free space stops: at the first pixel of a beam that
+    // could be an echo, not only at the first one strong enough to vote (>
+    // fls_intensity_threshold). A pixel could be an echo when it and the next
+    // farther one stand this many robust standard deviations above the
+    // image's median (its noise). A surface that returns weakly (grazing, or
+    // facing away) is not water. 4 as for the PS (never stopped early by noise
+    // over the object-free seabeds). 0: the free space runs up to the first vote.
+    double fls_free_space_noise_sigmas = 4.0;
     // How much one frame that saw a voxel as water outweighs one frame that
     // voted it at full intensity: the free update is -ratio * alpha_F *
     // ln(P_o / (1 - P_o)). 3 is the smallest ratio of the two outcomes'
@@ -125,6 +133,17 @@ struct UpdateConfig {
     double fls_free_vote_ratio = 3.0;
     // Report as objects only voxels that a PS ray crossed or ended in.
     bool require_ps_observation = true;
+    // PS carving stops at the first bin that could be an echo, not at the
+    // selected one: the nearer of the nearest group's first bin and the first
+    // of two consecutive bins standing this many robust standard deviations
+    // (1.4826 x MAD) above the ping's median (its noise). A surface in part of
+    // the fan returns weakly, often below the group threshold, and is not
+    // water; a ray carried on to the selected echo carves it. The echo itself
+    // stays where it was selected. 4 is the smallest multiple at which noise
+    // alone never stopped a ping early over the suite's object-free seabeds
+    // (docs/algorithm.md, "Carving stops at the first echo"). 0: carve up to
+    // the selected echo (the paper, Eq. 13).
+    double ps_carve_noise_sigmas = 4.0;
     // PS-only reconstruction: the end voxel of each PS ray gets an occupied
     // update (delta L_o) instead of being left alone. Only the carve_only variant.
     bool ps_endpoint_hits = true;

@@ -38,6 +38,25 @@ struct FlsFrame {
     return -1;
 }
 
+// The level above which a pixel of `f` is an echo rather than noise: the
+// image's median plus `sigmas` robust standard deviations (1.4826 x the median
+// absolute deviation). Most of a sonar image is water or shadow, so the median
+// and MAD are the noise's. No allocation (two 256-bin histograms).
+[[nodiscard]] int noiseLevel(const FlsFrame& f, double sigmas);
+
+// The nearest row of column `col` that could be a return: a pixel above
+// `vote_threshold`, or the nearer of two consecutive pixels above
+// `noise_level` (a lone noise pixel does not stop the search); -1 when none.
+[[nodiscard]] inline int firstEchoRow(const FlsFrame& f, int col, int vote_threshold, int noise_level) {
+    for (int row = f.rows - 1; row >= 0; --row) {
+        const uint8_t v = f.data[static_cast<std::size_t>(row) * f.cols + col];
+        if (v > vote_threshold) return row;
+        if (v > noise_level && row > 0 && f.data[static_cast<std::size_t>(row - 1) * f.cols + col] > noise_level)
+            return row;
+    }
+    return -1;
+}
+
 class FlsModel {
 public:
     // Throws std::invalid_argument on an impossible geometry.

@@ -188,8 +188,11 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
         // frame also hit keep only the hit.
         const float margin = std::sqrt(3.0f);
         const float r_min = static_cast<float>(model.rangeOfRow(frame.rows - 1)) * inv_res;
+        const int noise = cfg_.fls_free_space_noise_sigmas > 0.0
+                              ? std::min(cfg_.fls_intensity_threshold, noiseLevel(frame, cfg_.fls_free_space_noise_sigmas))
+                              : cfg_.fls_intensity_threshold;
         for (int col = 0; col < frame.cols; ++col) {
-            const int first = firstReturnRow(frame, col, cfg_.fls_intensity_threshold);
+            const int first = firstEchoRow(frame, col, cfg_.fls_intensity_threshold, noise);
             const float r_first =  // no return: all water
                 static_cast<float>(first < 0 ? model.rangeMax() : model.rangeOfRow(first)) * inv_res;
             for (float r = r_min; r < r_first - margin; r += 0.5f) {

@@ -21,6 +21,13 @@ struct PsCarveStats {
     int endpoints_outside_map = 0;
 };
 
+// Where a ping's carving stops: the nearer of its nearest group's first bin
+// and its first bin that could be an echo (firstEchoBin with `noise_sigmas`);
+// negative (carve up to the selected echo) when that is the echo's own bin or
+// noise_sigmas is 0 (UpdateConfig::ps_carve_noise_sigmas).
+[[nodiscard]] double carveStopRange(const PsPing& ping, const PsEchoGroup& group, const PsSelectionConfig& selection,
+                                    double noise_sigmas);
+
 class PsCarver {
 public:
     PsCarver(const PsModel& model, const UpdateConfig& cfg);
@@ -30,11 +37,13 @@ public:
     // ps_endpoint_hits, the voxel holding each fan candidate gets
     // delta L_o * echo_strength, the PS echo weighted like an FLS pixel (Eq. 6).
     PsCarveStats apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                       VoxelMap& map, double echo_strength = 1.0) const;
+                       VoxelMap& map, double echo_strength = 1.0, double carve_range = -1.0) const;
+    // carve_range (<= selected_range; negative: selected_range) is where the
+    // free-space updates stop; the echo stays at selected_range.
     // The same updates, in the same order, handed to `sink` (update_sink.hpp).
     template <class Sink>
     PsCarveStats apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                       const VoxelMap& map, Sink& sink, double echo_strength = 1.0) const;
+                       const VoxelMap& map, Sink& sink, double echo_strength = 1.0, double carve_range = -1.0) const;
 
     [[nodiscard]] float freeIncrement() const { return free_increment_; }  // Eq. 12
 
@@ -47,23 +56,31 @@ private:
 
 template <class Sink>
 PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eigen::Isometry3d& world_from_sensor,
-                             const VoxelMap& map, Sink& sink, double echo_strength) const {
+                             const VoxelMap& map, Sink& sink, double echo_strength, double carve_range) const {
     PsCarveStats st;
     const float hit = hit_increment_ * static_cast<float>(echo_strength);
     const Eigen::Vector3d origin = world_from_sensor.translation();
     const float alpha = static_cast<float>(cfg_.alpha_ps);
+    const bool shorter = carve_range >= 0.0 && carve_range < selected_range;
+    // Eq. 13's t stays the fraction of the echo's range, however far the carving goes.
+    const float t_scale = shorter ? static_cast<float>(carve_range / selected_range) : 1.0f;
     for (int k = 0; k < model_.fanSamples(); ++k) {
-        const Eigen::Vector3d end = origin + world_from_sensor.linear() * (selected_range * model_.direction(head_angle, k));
+        const Eigen::Vector3d dir = world_from_sensor.linear() * model_.direction(head_angle, k);
+        const Eigen::Vector3d end = origin + selected_range * dir;
         ++st.rays;
-        sink.ray(origin, end);
-        const WalkResult w = walkSegment(map, origin, end, [&](std::size_t v, double t) {
-            sink.add(v, free_increment_ * std::exp(-alpha * static_cast<float>(t)), VoxelMap::kPsObserved);  // Eq. 13
+        sink.ray(origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end, end);
+        const WalkResult w = walkSegment(map, origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end,
+                                         [&](std::size_t v, double t) {
+            sink.add(v, free_increment_ * std::exp(-alpha * t_scale * static_cast<float>(t)), VoxelMap::kPsObserved);  // Eq. 13
         });
         st.voxels_carved += w.visited;
-        if (w.end_in_map) {
+        VoxelIndex end_index;
+        const bool end_in_map = shorter ? map.worldToIndex(end, end_index) : w.end_in_map;
+        if (end_in_map) {
+            const std::size_t end_voxel = shorter ? map.linear(end_index) : w.end_voxel;
             ++st.endpoints_in_map;
-            sink.echo(w.end_voxel);
-            if (cfg_.ps_endpoint_hits) sink.add(w.end_voxel, hit, VoxelMap::kPsObserved);
+            sink.echo(end_voxel);
+            if (cfg_.ps_endpoint_hits) sink.add(end_voxel, hit, VoxelMap::kPsObserved);
         } else {
             ++st.endpoints_outside_map;
         }

@@ -34,6 +34,19 @@ enum class PsPingError { None, Empty, BadGeometry };
 // bin of highest intensity. Returns that bin, or nothing (no update).
 [[nodiscard]] std::optional<int> selectClosestGroup(const PsPing& ping, const PsSelectionConfig& cfg);
 
+// The nearest group itself: its first bin (where the nearest surface begins)
+// and its strongest bin (the selected echo).
+struct PsEchoGroup {
+    int first = 0;
+    int peak = 0;
+};
+[[nodiscard]] std::optional<PsEchoGroup> closestGroup(const PsPing& ping, const PsSelectionConfig& cfg);
+
+// The nearest bin (beyond cfg.min_range) that could be an echo: it and the next
+// one stand `sigmas` robust standard deviations (1.4826 x MAD) above the
+// ping's median, which is its noise (most bins of a ping are water). -1: none.
+[[nodiscard]] int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas);
+
 // Paper 2.1: the plain maximum-intensity bin (object detection uses this).
 [[nodiscard]] std::optional<int> maxIntensityBin(const PsPing& ping, const PsSelectionConfig& cfg);
 

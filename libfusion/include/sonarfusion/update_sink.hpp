@@ -14,7 +14,7 @@ namespace sonarfusion {
 // The sink interface, by example (the updaters take any type with these calls):
 //   void add(std::size_t voxel, float delta, uint8_t flag)  // log-odds update, then set flag
 //   void echo(std::size_t voxel)                            // a PS echo ended here (flag + count)
-//   void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end)  // a PS ray starts
+//   void ray(origin, carve_end, echo)  // a PS ray starts: carved up to carve_end, its echo at echo
 //   void aboveSeabed(std::size_t voxel)                     // an FLS vote the seabed cannot explain
 class MapWriterSink {
 public:
@@ -27,7 +27,7 @@ public:
         map_.setFlag(v, VoxelMap::kPsObserved);
         map_.addPsEcho(v);
     }
-    void ray(const Eigen::Vector3d& /*origin*/, const Eigen::Vector3d& /*end*/) {}
+    void ray(const Eigen::Vector3d& /*origin*/, const Eigen::Vector3d& /*carve_end*/, const Eigen::Vector3d& /*echo*/) {}
     void aboveSeabed(std::size_t v) { out_.addAboveSeabedVote(v); }
 
 private:
