@@ -40,8 +40,8 @@ struct FlsFrame {
 
 // The level above which a pixel of `f` is an echo rather than noise: the
 // image's median plus `sigmas` robust standard deviations (1.4826 x the median
-// absolute deviation). Most of a sonar image is water or shadow, so the median
-// and MAD are the noise's. No allocation (two 256-bin histograms).
+// absolute deviation), over every 7th pixel. Most of a sonar image is water or
+// shadow, so the median and MAD are the noise's. No allocation (two 256-bin histograms).
 [[nodiscard]] int noiseLevel(const FlsFrame& f, double sigmas);
 
 // The nearest row of column `col` that could be a return: a pixel above
