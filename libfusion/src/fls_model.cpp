@@ -1,6 +1,5 @@
 #include "sonarfusion/fls_model.hpp"
 
-#include <array>
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 #include <string>
 
 #include "sonarfusion/beam_direction.hpp"
+#include "sonarfusion/noise_level.hpp"
 
 namespace sonarfusion {
 
@@ -131,23 +131,10 @@ int noiseLevel(const FlsFrame& f, double sigmas) {
     // Every 7th pixel (7 shares no factor with usual image widths, so every
     // row and column is sampled): thousands of samples pin a median to a count.
     constexpr std::size_t kStride = 7;
-    std::array<uint32_t, 256> hist{};
+    IntensityHistogram hist{};
     std::size_t n = 0;
     for (std::size_t i = 0; i < pixels; i += kStride, ++n) ++hist[f.data[i]];
-    // The lower median of a histogram.
-    auto median = [n](const std::array<uint32_t, 256>& h) {
-        std::size_t seen = 0;
-        for (int v = 0; v < 256; ++v) {
-            seen += h[static_cast<std::size_t>(v)];
-            if (2 * seen >= n) return v;
-        }
-        return 255;
-    };
-    const int med = median(hist);
-    std::array<uint32_t, 256> dev{};
-    for (int v = 0; v < 256; ++v) dev[static_cast<std::size_t>(std::abs(v - med))] += hist[static_cast<std::size_t>(v)];
-    const double sigma = 1.4826 * std::max(1, median(dev));  // at least one count: a constant image has noise 0
-    return static_cast<int>(std::min(255.0, std::ceil(med + sigmas * sigma)));
+    return static_cast<int>(std::min(255.0, std::ceil(noiseLevelOf(hist, n, sigmas))));
 }
 
 }  // namespace sonarfusion

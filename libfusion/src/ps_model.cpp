@@ -1,11 +1,11 @@
 #include "sonarfusion/ps_model.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <stdexcept>
 
 #include "sonarfusion/beam_direction.hpp"
+#include "sonarfusion/noise_level.hpp"
 
 namespace sonarfusion {
 
@@ -64,22 +64,10 @@ std::optional<PsEchoGroup> closestGroup(const PsPing& ping, const PsSelectionCon
 int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas) {
     if (validatePing(ping) != PsPingError::None) return -1;
     const int b0 = firstUsableBin(ping, cfg);
-    const int n = ping.bins - b0;
-    if (n < 2) return -1;
-    std::array<int, 256> hist{};
+    if (ping.bins - b0 < 2) return -1;
+    IntensityHistogram hist{};
     for (int b = b0; b < ping.bins; ++b) ++hist[ping.intensity[b]];
-    auto median = [n](const std::array<int, 256>& h) {  // the lower median
-        int seen = 0;
-        for (int v = 0; v < 256; ++v) {
-            seen += h[static_cast<std::size_t>(v)];
-            if (2 * seen >= n) return v;
-        }
-        return 255;
-    };
-    const int med = median(hist);
-    std::array<int, 256> dev{};
-    for (int v = 0; v < 256; ++v) dev[static_cast<std::size_t>(std::abs(v - med))] += hist[static_cast<std::size_t>(v)];
-    const double level = med + sigmas * 1.4826 * std::max(1, median(dev));
+    const double level = noiseLevelOf(hist, static_cast<std::size_t>(ping.bins - b0), sigmas);
     for (int b = b0; b + 1 < ping.bins; ++b)
         if (ping.intensity[b] > level && ping.intensity[b + 1] > level) return b;
     return -1;
