@@ -1,6 +1,5 @@
 #include "sonarfusion/fls_model.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>

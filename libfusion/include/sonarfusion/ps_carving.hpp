@@ -67,10 +67,10 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
     for (int k = 0; k < model_.fanSamples(); ++k) {
         const Eigen::Vector3d dir = world_from_sensor.linear() * model_.direction(head_angle, k);
         const Eigen::Vector3d end = origin + selected_range * dir;
+        const Eigen::Vector3d carve_end = shorter ? Eigen::Vector3d(origin + carve_range * dir) : end;
         ++st.rays;
-        sink.ray(origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end, end);
-        const WalkResult w = walkSegment(map, origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end,
-                                         [&](std::size_t v, double t) {
+        sink.ray(origin, carve_end, end);
+        const WalkResult w = walkSegment(map, origin, carve_end, [&](std::size_t v, double t) {
             sink.add(v, free_increment_ * std::exp(-alpha * t_scale * static_cast<float>(t)), VoxelMap::kPsObserved);  // Eq. 13
         });
         st.voxels_carved += w.visited;
