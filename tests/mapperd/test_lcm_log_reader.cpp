@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "lcm_log_reader.hpp"
+#include "temp_dir.hpp"
 
 using namespace sonarfusion;
 
@@ -91,21 +92,10 @@ std::vector<Ev> makeEvents(int n, uint32_t seed = 1) {
     return evs;
 }
 
-class TempDir {
+// Each test's own folder (temp_dir.hpp).
+class TempDir : public test::TempDir {
 public:
-    TempDir() {
-        std::string t = (std::filesystem::temp_directory_path() / "sf-lcmlog-test-XXXXXX").string();
-        if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
-        path_ = t;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-    std::filesystem::path path_;
+    TempDir() : test::TempDir("sf-lcmlog-test") {}
 };
 
 std::string writeFile(const TempDir& dir, const std::vector<uint8_t>& bytes, const std::string& name = "log") {

@@ -13,25 +13,15 @@
 #include <vector>
 
 #include "map_file.hpp"
+#include "temp_dir.hpp"
 
 using namespace sonarfusion;
 
 namespace {
-class TempDir {
+// Each test's own folder (temp_dir.hpp).
+class TempDir : public test::TempDir {
 public:
-    TempDir() {
-        std::string t = (std::filesystem::temp_directory_path() / "sf-mapfile-test-XXXXXX").string();
-        if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
-        path_ = t;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path_, ec);
-    }
-    std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-    std::filesystem::path path_;
+    TempDir() : test::TempDir("sf-mapfile-test") {}
 };
 
 std::vector<uint8_t> readBytes(const std::string& p) {
