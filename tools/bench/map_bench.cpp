@@ -265,9 +265,7 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
             if (u.fls_free_space) {
                 // The beam's water before its first return, as FlsUpdater frees it
                 // (marked 0 in the scan set; voxels this frame hit keep the hit).
-                const int noise = u.fls_free_space_noise_sigmas > 0.0
-                                      ? std::min(u.fls_intensity_threshold, noiseLevel(frame, u.fls_free_space_noise_sigmas))
-                                      : u.fls_intensity_threshold;
+                const int noise = FlsUpdater::freeSpaceStopLevel(frame, u);
                 for (int col = 0; col < f.cols; ++col) {
                     const int first = firstEchoRow(frame, col, u.fls_intensity_threshold, noise);
                     const double r_first = first < 0 ? in.fls_model.rangeMax() : in.fls_model.rangeOfRow(first);

@@ -30,21 +30,14 @@ struct FlsFrame {
     [[nodiscard]] bool hasGeometry() const { return row_range != nullptr || beam_bearing != nullptr; }
 };
 
-// The nearest row (rows count from the far end, Eq. 1) of column `col` whose
-// intensity exceeds `threshold`: the beam's first return; -1 when it has none.
-[[nodiscard]] inline int firstReturnRow(const FlsFrame& f, int col, int threshold) {
-    for (int row = f.rows - 1; row >= 0; --row)
-        if (f.data[static_cast<std::size_t>(row) * f.cols + col] > threshold) return row;
-    return -1;
-}
-
 // The level above which a pixel of `f` is an echo rather than noise: the
 // image's median plus `sigmas` robust standard deviations (1.4826 x the median
 // absolute deviation), over every 7th pixel. Most of a sonar image is water or
 // shadow, so the median and MAD are the noise's. No allocation (two 256-bin histograms).
 [[nodiscard]] int noiseLevel(const FlsFrame& f, double sigmas);
 
-// The nearest row of column `col` that could be a return: a pixel above
+// The nearest row (rows count from the far end, Eq. 1) of column `col` that
+// could be a return: a pixel above
 // `vote_threshold`, or the nearer of two consecutive pixels above
 // `noise_level` (a lone noise pixel does not stop the search); -1 when none.
 [[nodiscard]] inline int firstEchoRow(const FlsFrame& f, int col, int vote_threshold, int noise_level) {

@@ -61,6 +61,15 @@ public:
     void setSeabed(const std::optional<SeabedFit>& seabed) { seabed_ = seabed; }
     [[nodiscard]] const std::optional<SeabedFit>& seabed() const { return seabed_; }
 
+    // The level above which a pixel of `frame` stops the free space
+    // (firstEchoRow): the image's noise level (noiseLevel) with
+    // fls_free_space_noise_sigmas > 0, never above the vote threshold.
+    [[nodiscard]] static int freeSpaceStopLevel(const FlsFrame& frame, const UpdateConfig& cfg) {
+        return cfg.fls_free_space_noise_sigmas > 0.0
+                   ? std::min(cfg.fls_intensity_threshold, noiseLevel(frame, cfg.fls_free_space_noise_sigmas))
+                   : cfg.fls_intensity_threshold;
+    }
+
     // The frame must already match the model (FlsModel::frameMatches).
     FlsUpdateStats apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map);
     // The same updates, in the same order, handed to `sink` (update_sink.hpp)
@@ -188,9 +197,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
         // frame also hit keep only the hit.
         const float margin = std::sqrt(3.0f);
         const float r_min = static_cast<float>(model.rangeOfRow(frame.rows - 1)) * inv_res;
-        const int noise = cfg_.fls_free_space_noise_sigmas > 0.0
-                              ? std::min(cfg_.fls_intensity_threshold, noiseLevel(frame, cfg_.fls_free_space_noise_sigmas))
-                              : cfg_.fls_intensity_threshold;
+        const int noise = freeSpaceStopLevel(frame, cfg_);
         for (int col = 0; col < frame.cols; ++col) {
             const int first = firstEchoRow(frame, col, cfg_.fls_intensity_threshold, noise);
             const float r_first =  // no return: all water
