@@ -328,6 +328,33 @@ void Segmenter::markConfirmed(const VoxelMap& map) {
         }
     }
     for (std::size_t i = 0; i < map.size(); ++i) confirmed_[i] = label_[i] >= echo_threshold_ ? 1 : 0;
+    if (cfg_.ps_echo_seen_above_seabed) dropMirrorEchoes(map);
+}
+
+// SegmentationConfig::ps_echo_seen_above_seabed: a confirmed voxel whose
+// neighbourhood the FLS voted, with no vote there from a return nearer than the
+// seabed, holds echoes the PS could have placed from the other side of its fan.
+void Segmenter::dropMirrorEchoes(const VoxelMap& map) {
+    bool counted = false;  // an SFMAP001 map, or no seabed fit: nothing to judge by
+    for (std::size_t i = 0; i < map.size() && !counted; ++i) counted = map.flsAboveSeabedVotes(i) > 0;
+    if (!counted) return;
+    const int r = cfg_.ps_echo_radius;
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        if (!confirmed_[i]) continue;
+        const VoxelIndex c = map.fromLinear(i);
+        bool voted = false, above = false;
+        for (int z = std::max(0, c.z - r); z <= std::min(nz_ - 1, c.z + r) && !above; ++z)
+            for (int y = std::max(0, c.y - r); y <= std::min(ny_ - 1, c.y + r) && !above; ++y)
+                for (int x = std::max(0, c.x - r); x <= std::min(nx_ - 1, c.x + r) && !above; ++x) {
+                    const std::size_t n = map.linear({x, y, z});
+                    voted = voted || map.flsTouched(n);
+                    above = map.flsAboveSeabedVotes(n) > 0;
+                }
+        if (voted && !above) {
+            confirmed_[i] = 0;
+            ++stats_.mirror_echo_voxels;
+        }
+    }
 }
 
 bool Segmenter::confirmedByPs(const VoxelMap& map, std::size_t voxel) const {

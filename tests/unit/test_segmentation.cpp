@@ -521,3 +521,43 @@ TEST(Segmentation, OffSwathVoxelsVotedAboveTheSeabedExtendAConfirmedObject) {
     cfg.fls_above_seabed_min_votes = 0;  // the rule off
     EXPECT_EQ(objectVoxels(255, false), box);
 }
+
+// The PS places each echo on every bearing of its fan (Eq. 11): an object
+// beside the track leaves as many echoes on its mirror across the track, at
+// the same height. Where the FLS voted, only the side where it also saw a
+// return nearer than the seabed (VoxelMap::flsAboveSeabedVotes) is an object.
+// Before this rule both were reported (survey_field's mine: precision 0.82).
+TEST(SegmentationEchoField, TheFlsTellsAnObjectFromItsPsMirror) {
+    enum class Fls { None, VotedBoth, SawOneAboveSeabed };
+    auto objects = [](Fls fls, bool rule) {
+        VoxelMap m{MapConfig{}};
+        m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // seabed top at layer 80
+        for (int iy = 0; iy < 100; ++iy)
+            for (int ix = 0; ix < 100; ++ix) {
+                for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+                if (iy >= 30 && iy < 70)  // the PS swath's seabed echoes
+                    for (int e = 0; e < 4; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
+            }
+        // A 0.3 m block 0.6 m east of the track (iy = 50) and its mirror 0.6 m west.
+        for (int side : {-1, 1})
+            for (int ix = 45; ix < 50; ++ix)
+                for (int d = 4; d < 9; ++d)
+                    for (int iz = 77; iz < 80; ++iz) {
+                        const std::size_t v = m.linear({ix, 50 + side * d, iz});
+                        m.add(v, 3.0f);
+                        m.setFlag(v, VoxelMap::kPsObserved);
+                        if (iz == 77) for (int e = 0; e < 6; ++e) m.addPsEcho(v);
+                        if (fls != Fls::None) m.setFlag(v, VoxelMap::kFlsTouched);
+                        if (fls == Fls::SawOneAboveSeabed && side == 1) m.setFlsAboveSeabedVotes(v, 2);
+                    }
+        SegmentationConfig cfg;
+        cfg.ps_echo_seen_above_seabed = rule;
+        Segmenter seg(cfg, true, m);
+        return seg.run(m).objects;
+    };
+    EXPECT_EQ(objects(Fls::SawOneAboveSeabed, true), 1) << "the mirror was reported";
+    EXPECT_EQ(objects(Fls::SawOneAboveSeabed, false), 2);
+    // Without the FLS's judgement the PS alone decides: both stay.
+    EXPECT_EQ(objects(Fls::None, true), 2);
+    EXPECT_EQ(objects(Fls::VotedBoth, true), 2) << "a map with no above-seabed count at all is judged by the PS alone";
+}

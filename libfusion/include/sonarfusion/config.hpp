@@ -255,6 +255,14 @@ struct SegmentationConfig {
     // hold echoes: scatter is a share of what the objects collect, not of the
     // seabed, which every ping sweeps. False: over every echo voxel.
     bool ps_echo_reference_above_seabed = true;
+    // Where the FLS voted, a PS echo confirms only next to an FLS vote the
+    // seabed cannot explain (VoxelMap::flsAboveSeabedVotes within ps_echo_radius).
+    // The PS places each echo on every bearing of its fan (Eq. 11), so an object
+    // beside the track leaves as many echoes on its mirror across the track; only
+    // the FLS, which knows bearing, saw something stand above the seabed on one
+    // side (docs/algorithm.md, "The PS's mirror image"). Voxels the FLS never
+    // voted, and maps with no above-seabed count at all, keep the PS rule alone.
+    bool ps_echo_seen_above_seabed = true;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `segmentation` block
 };
 

@@ -29,6 +29,7 @@ struct SegmentationStats {
     int occupied_voxels = 0;
     int candidate_voxels = 0;      // occupied, above the seabed surface, (PS-confirmed if required)
     int unconfirmed_voxels = 0;    // would be candidates but the PS never confirmed them
+    int mirror_echo_voxels = 0;    // echo-confirmed, but the FLS saw nothing above the seabed there
     int objects = 0;
     int objects_dropped = 0;       // beyond max_objects
 };
@@ -65,6 +66,7 @@ private:
     void smoothBaselineAlongTrack(int half, bool exclude_raised);
     [[nodiscard]] bool aboveBaseline(const VoxelMap& map, std::size_t voxel, double margin) const;
     void markConfirmed(const VoxelMap& map);
+    void dropMirrorEchoes(const VoxelMap& map);
     [[nodiscard]] bool confirmedByPs(const VoxelMap& map, std::size_t voxel) const;
     void label(const VoxelMap& map);
 

@@ -77,6 +77,7 @@ public:
     [[nodiscard]] float occupancy(std::size_t i) const { return occupancyFromLogOdds(log_odds_[i]); }
     [[nodiscard]] uint8_t flags(std::size_t i) const { return flags_[i]; }
     [[nodiscard]] bool psObserved(std::size_t i) const { return (flags_[i] & kPsObserved) != 0; }
+    [[nodiscard]] bool flsTouched(std::size_t i) const { return (flags_[i] & kFlsTouched) != 0; }
     [[nodiscard]] int psEchoCount(std::size_t i) const { return flags_[i] >> kPsEchoShift; }
     void addPsEcho(std::size_t i) {
         if (psEchoCount(i) < kPsEchoMax) flags_[i] = static_cast<uint8_t>(flags_[i] + (1u << kPsEchoShift));
