@@ -553,7 +553,14 @@ TEST(SegmentationEchoField, TheFlsTellsAnObjectFromItsPsMirror) {
         SegmentationConfig cfg;
         cfg.ps_echo_seen_above_seabed = rule;
         Segmenter seg(cfg, true, m);
-        return seg.run(m).objects;
+        const SegmentationStats& st = seg.run(m);
+        // Only the mirror's echo voxels (and their neighbours) lose their confirmation.
+        if (fls == Fls::SawOneAboveSeabed && rule) {
+            EXPECT_GT(st.mirror_echo_voxels, 0);
+        } else {
+            EXPECT_EQ(st.mirror_echo_voxels, 0);
+        }
+        return st.objects;
     };
     EXPECT_EQ(objects(Fls::SawOneAboveSeabed, true), 1) << "the mirror was reported";
     EXPECT_EQ(objects(Fls::SawOneAboveSeabed, false), 2);
