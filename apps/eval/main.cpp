@@ -202,6 +202,7 @@ int main(int argc, char** argv) {
             }
             l.prediction = segmentMap(*l.map, *variant, base_config, scenario.track_axis);
             l.score = scorePrediction(grid, l.prediction, *l.truth, scored_scene, face);
+            l.score.missed = missedVisible(grid, *l.map, l.prediction, l.truth->visible);
             l.score.variant = name;
             l.score.map_path = in.path;
             loaded.push_back(std::move(l));

@@ -1,5 +1,6 @@
 #include "map_scoring.hpp"
 
+#include "distance_transform.hpp"
 #include "sonarfusion/config.hpp"
 
 namespace sonarfusion::eval {
@@ -23,6 +24,20 @@ Prediction segmentMap(const VoxelMap& map, Variant variant, const MapperConfig& 
         p.occupied[i] = seg.occupied(i);
     }
     return p;
+}
+
+MissedVisible missedVisible(const GridSpec& grid, const VoxelMap& map, const Prediction& prediction,
+                            const VoxelMask& visible) {
+    MissedVisible m;
+    const std::vector<double> to_pred = squaredDistanceToSet(grid, prediction.object);
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+        if (!visible[i] || to_pred[i] <= 1.0 + 1e-9) continue;  // recalled: the rule of computeMetrics
+        const float l = map.logOdds(i);
+        if (l < 0.0f) ++(map.psEchoCount(i) > 0 ? m.free_with_ps_echoes : m.free);
+        else if (!prediction.occupied[i]) ++m.not_occupied;
+        else ++(map.psObserved(i) ? m.occupied_ps_observed : m.occupied_outside_ps);
+    }
+    return m;
 }
 
 VariantScore scorePrediction(const GridSpec& grid, const Prediction& prediction, const GroundTruth& gt,

@@ -32,6 +32,12 @@ json variantJson(const VariantScore& s) {
     for (const FaceAngle& f : s.faces) faces.push_back(optional(f.angle_deg));
     j["face_angles_deg"] = faces;
     j["map"] = s.map_path;
+    if (s.missed)
+        j["missed_visible"] = {{"free_with_ps_echoes", s.missed->free_with_ps_echoes},
+                               {"free", s.missed->free},
+                               {"not_occupied", s.missed->not_occupied},
+                               {"occupied_ps_observed", s.missed->occupied_ps_observed},
+                               {"occupied_outside_ps", s.missed->occupied_outside_ps}};
     const VoxelCounts& c = m.counts;
     j["counts"] = {{"predicted_voxels", c.predicted},
                    {"predicted_correct_voxels", c.predicted_correct},
@@ -135,6 +141,17 @@ std::string scoreTable(const std::vector<VariantScore>& scores) {
     row("face_angle_deg", [](const VariantScore& s) { return s.face_angle_deg; }, 1);
     row("face_angle_true_deg", [](const VariantScore& s) { return s.true_face_angle_deg; }, 1);
     row("predicted_voxels", [](const VariantScore& s) { return Opt(static_cast<double>(s.metrics.counts.predicted)); }, 0);
+    // Why the missed visible voxels were missed (map_scoring.hpp, MissedVisible).
+    auto missed = [&](const std::string& name, std::size_t MissedVisible::*field) {
+        row(name, [field](const VariantScore& s) { return s.missed ? Opt(static_cast<double>((*s.missed).*field)) : Opt(); }, 0);
+    };
+    if (!scores.empty() && scores.front().missed) {
+        missed("missed: free, PS echo", &MissedVisible::free_with_ps_echoes);
+        missed("missed: free", &MissedVisible::free);
+        missed("missed: not occupied", &MissedVisible::not_occupied);
+        missed("missed: occ., PS seen", &MissedVisible::occupied_ps_observed);
+        missed("missed: occ., no PS", &MissedVisible::occupied_outside_ps);
+    }
     row("objects", [](const VariantScore& s) { return Opt(static_cast<double>(s.objects)); }, 0);
     row("objects_true", [](const VariantScore& s) { return Opt(static_cast<double>(s.objects_true)); }, 0);
     return o.str();

@@ -53,3 +53,37 @@ TEST(MapScoring, SegmentsWithTheMapperConfigAndTheTrackAxis) {
     cfg.segmentation.min_object_voxels = 10;
     EXPECT_EQ(segmentMap(m, Variant::FlsOnly, cfg, Eigen::Vector2d(1.0, 0.0)).stats.unconfirmed_voxels, 0);
 }
+
+// Each visible voxel that no predicted voxel recalls is put in one class by the
+// map's state at it; recalled ones (a predicted voxel within one voxel) in none.
+TEST(MapScoring, MissedVisibleVoxelsAreClassedByTheMapsStateAtThem) {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));
+    const GridSpec grid = GridSpec::of(m);
+    Prediction p;
+    p.object.assign(m.size(), 0);
+    p.occupied.assign(m.size(), 0);
+    VoxelMask visible(m.size(), 0);
+    auto at = [&](int x) { return m.linear({x, 50, 50}); };
+    // Five missed surface voxels, ten voxels apart, one per class.
+    m.add(at(10), -2.0f);  // carved, though it holds a PS echo
+    m.setFlag(at(10), VoxelMap::kPsObserved);
+    m.addPsEcho(at(10));
+    m.add(at(20), -2.0f);  // carved
+    m.add(at(30), 0.5f);   // seen once or twice, not occupied
+    for (int x : {40, 50}) {
+        m.add(at(x), 3.0f);  // occupied but in no object
+        p.occupied[at(x)] = 1;
+    }
+    m.setFlag(at(40), VoxelMap::kPsObserved);
+    // A recalled one: its neighbour is predicted.
+    p.object[at(61)] = 1;
+    for (int x : {10, 20, 30, 40, 50, 60}) visible[at(x)] = 1;
+    const MissedVisible missed = missedVisible(grid, m, p, visible);
+    EXPECT_EQ(missed.free_with_ps_echoes, 1u);
+    EXPECT_EQ(missed.free, 1u);
+    EXPECT_EQ(missed.not_occupied, 1u);
+    EXPECT_EQ(missed.occupied_ps_observed, 1u);
+    EXPECT_EQ(missed.occupied_outside_ps, 1u);
+    EXPECT_EQ(missed.total(), 5u);
+}
