@@ -1,6 +1,5 @@
 #include "map_scoring.hpp"
 
-#include "distance_transform.hpp"
 #include "sonarfusion/config.hpp"
 
 namespace sonarfusion::eval {
@@ -29,9 +28,9 @@ Prediction segmentMap(const VoxelMap& map, Variant variant, const MapperConfig& 
 MissedVisible missedVisible(const GridSpec& grid, const VoxelMap& map, const Prediction& prediction,
                             const VoxelMask& visible) {
     MissedVisible m;
-    const std::vector<double> to_pred = squaredDistanceToSet(grid, prediction.object);
+    const VoxelMask missed = unrecalled(grid, prediction.object, visible);
     for (std::size_t i = 0; i < grid.size(); ++i) {
-        if (!visible[i] || to_pred[i] <= 1.0 + 1e-9) continue;  // recalled: the rule of computeMetrics
+        if (!missed[i]) continue;
         const float l = map.logOdds(i);
         if (l < 0.0f) ++(map.psEchoCount(i) > 0 ? m.free_with_ps_echoes : m.free);
         else if (!prediction.occupied[i]) ++m.not_occupied;

@@ -6,22 +6,17 @@
 
 namespace sonarfusion::eval {
 
-namespace {
-// "Within one voxel": squared centre distance <= 1 (face neighbours), with
-// slack for rounding.
-constexpr double kWithinOneVoxelSq = 1.0 + 1e-9;
-}  // namespace
+VoxelMask unrecalled(const GridSpec& grid, const VoxelMask& predicted, const VoxelMask& visible) {
+    const std::vector<double> to_pred = squaredDistanceToSet(grid, predicted);
+    VoxelMask missed(grid.size(), 0);
+    for (std::size_t i = 0; i < grid.size(); ++i) missed[i] = visible[i] && to_pred[i] > kWithinOneVoxelSq;
+    return missed;
+}
 
 std::optional<double> recallOn(const GridSpec& grid, const VoxelMask& predicted, const VoxelMask& visible) {
-    const std::vector<double> to_pred = squaredDistanceToSet(grid, predicted);
-    std::size_t n = 0, hit = 0;
-    for (std::size_t i = 0; i < grid.size(); ++i) {
-        if (!visible[i]) continue;
-        ++n;
-        hit += to_pred[i] <= kWithinOneVoxelSq;
-    }
+    const std::size_t n = countSet(visible);
     if (n == 0) return std::nullopt;
-    return static_cast<double>(hit) / static_cast<double>(n);
+    return static_cast<double>(n - countSet(unrecalled(grid, predicted, visible))) / static_cast<double>(n);
 }
 
 Metrics computeMetrics(const GridSpec& grid, const VoxelMask& predicted, const VoxelMask& truth_solid,

@@ -23,6 +23,10 @@
 
 namespace sonarfusion::eval {
 
+// "Within one voxel": squared centre distance <= 1 (face neighbours), with
+// slack for rounding. The rule of correct(p) and recalled(v) above, wherever they are counted.
+inline constexpr double kWithinOneVoxelSq = 1.0 + 1e-9;
+
 struct VoxelCounts {
     std::size_t predicted = 0;          // |P|
     std::size_t predicted_correct = 0;  // p with dist(p, G) <= 1 voxel
@@ -41,6 +45,9 @@ struct Metrics {
 
 [[nodiscard]] Metrics computeMetrics(const GridSpec& grid, const VoxelMask& predicted, const VoxelMask& truth_solid,
                                      const VoxelMask& visible_surface);
+
+// The voxels of `visible` that P does not recall (no predicted voxel within one voxel).
+[[nodiscard]] VoxelMask unrecalled(const GridSpec& grid, const VoxelMask& predicted, const VoxelMask& visible);
 
 // Recall of P on another visible set (e.g. the surface the PS saw), same rule.
 [[nodiscard]] std::optional<double> recallOn(const GridSpec& grid, const VoxelMask& predicted, const VoxelMask& visible);

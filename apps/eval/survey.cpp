@@ -30,8 +30,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kWithinOneVoxelSq = 1.0 + 1e-9;  // as metrics.cpp
-
 bool boxesOverlap(const Eigen::Vector3d& alo, const Eigen::Vector3d& ahi, const Eigen::Vector3d& blo,
                   const Eigen::Vector3d& bhi) {
     return (alo.array() <= bhi.array()).all() && (blo.array() <= ahi.array()).all();
