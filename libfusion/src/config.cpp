@@ -3,6 +3,7 @@
 // constructors that take these structs (FlsModel, PsModel, VoxelMap,
 // ObjectDetector, Segmenter, NavBuffer) refuse nothing these accept.
 #include "sonarfusion/config.hpp"
+#include "sonarfusion/voxel_map.hpp"
 
 #include <cmath>
 #include <string>
@@ -103,6 +104,10 @@ Check UpdateConfig::validate() const {
         return bad("fls_free_space_noise_sigmas", "must be finite and >= 0 (0: free space up to the first vote)");
     if (!(ps_carve_noise_sigmas >= 0.0) || !finite(ps_carve_noise_sigmas))
         return bad("ps_carve_noise_sigmas", "must be finite and >= 0 (0: carve up to the selected echo)");
+    if (!(ps_carve_spare_echo_share >= 0.0 && ps_carve_spare_echo_share <= 1.0))
+        return bad("ps_carve_spare_echo_share", "must be in [0, 1] (0: every crossed voxel is carved)");
+    if (!inRange(ps_carve_spare_min_echoes, 1, VoxelMap::kPsEchoMax))
+        return bad("ps_carve_spare_min_echoes", range(1, VoxelMap::kPsEchoMax));
     // The arc sample tables are sized from it.
     if (!(fls_arc_spacing_voxels == 0.0 || (fls_arc_spacing_voxels >= 0.25 && fls_arc_spacing_voxels <= 100.0)))
         return bad("fls_arc_spacing_voxels", "must be 0 (N_v samples) or in [0.25, 100]");

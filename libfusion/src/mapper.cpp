@@ -53,7 +53,7 @@ int flsMaxArcSamples(const MapperConfig& cfg, const FlsModel& m) {
 }  // namespace
 
 std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
-    // Per voxel (docs/algorithm.md, "Memory"): 6 B map, 14 B FLS frame scratch,
+    // Per voxel (docs/algorithm.md, "Memory"): 7 B map, 14 B FLS frame scratch,
     // 10 B segmentation; plus the FLS direction tables and the fixed rings.
     const double voxels = static_cast<double>(cfg.map.nx) * cfg.map.ny * cfg.map.nz;
     const double columns = static_cast<double>(cfg.map.nx + 1) * (cfg.map.ny + 1);
@@ -68,7 +68,7 @@ std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
                        arc_vectors * 12.0 * (cfg.fls_max_geometries + 1) +
                        (cfg.fls_max_geometries - 1) * (static_cast<double>(cfg.fls.rows + cfg.fls.beams) * 8.0 +
                                                        static_cast<double>(cfg.fls.beams) * cfg.fls.elevation_samples * 12.0);
-    const double bytes = voxels * (24.0 + 6.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
+    const double bytes = voxels * (24.0 + 7.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
                          (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0 +
                          cfg.survey.published_capacity * 48.0;
     return bytes > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(bytes);
@@ -568,7 +568,8 @@ bool Mapper::loadState(StateReader& r) {
 
 std::size_t Mapper::stateBytesBound() const {
     const std::size_t pose = sizeof(int64_t) + 6 * sizeof(double);
-    return 64 + maps_.size() * (maps_.front().size() * (sizeof(float) + 1) + 64) + 64 +
+    // Per voxel: log-odds, flags, above-seabed votes, PS crossings.
+    return 64 + maps_.size() * (maps_.front().size() * (sizeof(float) + 3) + 64) + 64 +
            published_.size() * 56 + 24 * 2 +
            static_cast<std::size_t>(cfg_.detector.seabed_capacity + cfg_.detector.risen_capacity) * 24 + 64 +
            static_cast<std::size_t>(cfg_.nav_buffer_capacity) * pose + 16 +

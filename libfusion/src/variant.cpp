@@ -54,6 +54,7 @@ void applyVariant(Variant v, MapperConfig& cfg) {
             u.fls_free_space = false;
             u.ps_endpoint_hits = false;  // Eq. 13 leaves the end voxel alone
             u.ps_carve_noise_sigmas = 0.0;        // Eq. 13 carves up to the selected range
+            u.ps_carve_spare_echo_share = 0.0;    // and every voxel on the way
             u.fls_free_space_noise_sigmas = 0.0;
             cfg.ps_selection.weak_echoes_group = false;  // tau alone (paper 2.3)
             u.require_ps_observation = false;

@@ -20,12 +20,14 @@ VoxelMap::VoxelMap(const MapConfig& cfg)
     log_odds_.assign(n, 0.0f);
     flags_.assign(n, 0);
     above_seabed_votes_.assign(n, 0);
+    ps_crossings_.assign(n, 0);
 }
 
 void VoxelMap::clear() {
     std::fill(log_odds_.begin(), log_odds_.end(), 0.0f);
     std::fill(flags_.begin(), flags_.end(), uint8_t{0});
     std::fill(above_seabed_votes_.begin(), above_seabed_votes_.end(), uint8_t{0});
+    std::fill(ps_crossings_.begin(), ps_crossings_.end(), uint8_t{0});
 }
 
 void VoxelMap::release() {
@@ -49,6 +51,7 @@ void VoxelMap::saveState(StateWriter& w) const {
     w.bytes(log_odds_.data(), log_odds_.size() * sizeof(float));
     w.bytes(flags_.data(), flags_.size());
     w.bytes(above_seabed_votes_.data(), above_seabed_votes_.size());
+    w.bytes(ps_crossings_.data(), ps_crossings_.size());
 }
 
 bool VoxelMap::loadState(StateReader& r) {
@@ -65,7 +68,8 @@ bool VoxelMap::loadState(StateReader& r) {
         return true;
     }
     if (!r.bytes(log_odds_.data(), log_odds_.size() * sizeof(float)) || !r.bytes(flags_.data(), flags_.size()) ||
-        !r.bytes(above_seabed_votes_.data(), above_seabed_votes_.size()))
+        !r.bytes(above_seabed_votes_.data(), above_seabed_votes_.size()) ||
+        !r.bytes(ps_crossings_.data(), ps_crossings_.size()))
         return false;
     for (float& l : log_odds_)  // never trust a value from disk to be inside the clamp
         if (!std::isfinite(l)) return false;

@@ -119,3 +119,57 @@ TEST(PsCarving, NoiseRuleIsOnInFusedAndOffInThePaperVariant) {
     EXPECT_EQ(paper.update.ps_carve_noise_sigmas, 0.0);
     EXPECT_EQ(paper.update.fls_free_space_noise_sigmas, 0.0);
 }
+
+// UpdateConfig::ps_carve_spare_echo_share: a voxel the PS saw as surface (echoes
+// in at least 30 % of the rays that reached it, at least 2 of them) is not
+// carved by a later ray passing through it to a farther echo, the way a ramp
+// seen from the front is crossed at grazing incidence from behind; once the
+// crossings outnumber the echoes by more than 7 to 3, the ray carves it again.
+TEST(PsCarving, SparesAVoxelThePsSawAsSurfaceUntilTheCrossingsOutweighIt) {
+    PsModel model{singleRay()};
+    Eigen::Isometry3d sensor = Eigen::Isometry3d::Identity();
+    sensor.translation() = Eigen::Vector3d(1.05, 2.05, 3.05);  // centre of voxel (10, 20, 30)
+    const std::size_t surface = test::originMap().linear({20, 20, 30});  // x 2.0..2.1: the range-1.0 echo's voxel
+    auto run = [&](const UpdateConfig& cfg, VoxelMap& map, int crossings) {
+        const PsCarver carver(model, cfg);
+        for (int ping = 0; ping < 2; ++ping) (void)carver.apply(0.0, 1.0, sensor, map);  // two echoes at x = 2.05
+        PsCarveStats last;
+        for (int ping = 0; ping < crossings; ++ping) last = carver.apply(0.0, 2.0, sensor, map);  // on through it to x = 3.05
+        return last;
+    };
+    UpdateConfig cfg;
+    cfg.ps_endpoint_hits = false;  // the log-odds change only by carving
+    EXPECT_DOUBLE_EQ(cfg.ps_carve_spare_echo_share, 0.3);
+    EXPECT_EQ(cfg.ps_carve_spare_min_echoes, 2);
+
+    VoxelMap spared = test::originMap();
+    const PsCarveStats st = run(cfg, spared, 4);  // 2 echoes, 0..3 earlier crossings: 0.7 x 2 >= 0.3 x 3
+    EXPECT_EQ(spared.psEchoCount(surface), 2);
+    EXPECT_EQ(spared.psCrossings(surface), 4);
+    EXPECT_FLOAT_EQ(spared.logOdds(surface), 0.0f) << "the voxel holding the echoes was carved";
+    EXPECT_EQ(st.voxels_spared, 1);
+    EXPECT_EQ(st.voxels_carved, 20);  // voxels 10..29 visited, the surface spared
+    EXPECT_LT(spared.logOdds(spared.linear({19, 20, 30})), 0.0f);  // water in front of it carved as before
+    EXPECT_LT(spared.logOdds(spared.linear({21, 20, 30})), 0.0f);  // and behind it
+
+    VoxelMap outweighed = test::originMap();  // spared while 0.7 x 2 >= 0.3 x (crossings so far): the 6th carves
+    (void)run(cfg, outweighed, 6);
+    const float dlf = static_cast<float>(std::log(0.2 / 0.8));
+    EXPECT_NEAR(outweighed.logOdds(surface), dlf * std::exp(-0.5 * 0.5), 1e-5);  // carved once, t = 0.5 (Eq. 13)
+
+    cfg.ps_carve_spare_echo_share = 0.0;  // the paper: every crossed voxel is carved
+    VoxelMap carved = test::originMap();
+    (void)run(cfg, carved, 4);
+    EXPECT_LT(carved.logOdds(surface), 0.0f);
+
+    MapperConfig paper;
+    applyVariant(Variant::Paper, paper);
+    EXPECT_EQ(paper.update.ps_carve_spare_echo_share, 0.0);
+
+    cfg.ps_carve_spare_echo_share = 0.3;  // one echo is not enough
+    VoxelMap single = test::originMap();
+    const PsCarver carver(model, cfg);
+    (void)carver.apply(0.0, 1.0, sensor, single);
+    (void)carver.apply(0.0, 2.0, sensor, single);
+    EXPECT_LT(single.logOdds(surface), 0.0f);
+}

@@ -175,7 +175,8 @@ double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, cons
 class PsTableCarver {
 public:
     PsTableCarver(const PsModel& model, const UpdateConfig& cfg)
-        : model_(model), free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free))) {
+        : model_(model), free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free))),
+          share_(cfg.ps_carve_spare_echo_share), spare_min_echoes_(cfg.ps_carve_spare_min_echoes) {
         for (int i = 0; i <= kSteps; ++i)
             table_[i] = free_increment_ * std::exp(-static_cast<float>(cfg.alpha_ps) * static_cast<float>(i) / kSteps);
         table_[kSteps + 1] = table_[kSteps];
@@ -190,14 +191,20 @@ public:
             const Eigen::Vector3d end = origin + range * dir;
             const WalkResult w = walkSegment(map, origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end,
                                              [&](std::size_t v, double t) {
+                const bool spared = share_ > 0.0 && map.psEchoCount(v) >= spare_min_echoes_ &&
+                                    (1.0 - share_) * map.psEchoCount(v) >= share_ * map.psCrossings(v);  // as PsCarver
+                map.writer().addPsCrossing(v);
+                if (spared) return;
                 const float x = static_cast<float>(t * t_scale) * kSteps;
                 const int i = static_cast<int>(x);
                 map.add(v, table_[i] + (x - static_cast<float>(i)) * (table_[i + 1] - table_[i]));
                 map.setFlag(v, VoxelMap::kPsObserved);
             });
             VoxelIndex echo;
-            if (shorter ? map.worldToIndex(end, echo) : w.end_in_map)
+            if (shorter ? map.worldToIndex(end, echo) : w.end_in_map) {
                 map.setFlag(shorter ? map.linear(echo) : w.end_voxel, VoxelMap::kPsObserved);
+                map.addPsEcho(shorter ? map.linear(echo) : w.end_voxel);
+            }
         }
     }
 
@@ -205,6 +212,8 @@ private:
     static constexpr int kSteps = 1024;
     const PsModel& model_;
     float free_increment_;
+    double share_;          // UpdateConfig::ps_carve_spare_echo_share
+    int spare_min_echoes_;  // UpdateConfig::ps_carve_spare_min_echoes
     float table_[kSteps + 2];
 };
 
@@ -223,6 +232,12 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
     const double res = tree.getResolution();
     std::vector<Eigen::Vector3d> world_dir(arcs.arcDirections().size());
     std::unordered_map<octomap::OcTreeKey, uint8_t, octomap::OcTreeKey::KeyHash> scan;
+    // Per key, the PS echoes that ended in it and the rays that crossed it, for
+    // the carving that spares surface voxels (UpdateConfig::ps_carve_spare_echo_share).
+    struct PsCounts {
+        int echoes = 0, crossings = 0;
+    };
+    std::unordered_map<octomap::OcTreeKey, PsCounts, octomap::OcTreeKey::KeyHash> ps_counts;
     octomap::KeyRay ray;
     // A candidate point's key, when it lies inside our grid.
     auto keyInGrid = [&](const Eigen::Vector3d& q, octomap::OcTreeKey& key) {
@@ -292,12 +307,20 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                 if (!tree.computeRayKeys(oa, ob, ray)) continue;
                 for (const octomap::OcTreeKey& key : ray) {
                     if (!grid.inGrid(key)) continue;
+                    PsCounts& c = ps_counts[key];
+                    const bool spared = u.ps_carve_spare_echo_share > 0.0 && c.echoes >= u.ps_carve_spare_min_echoes &&
+                                        (1.0 - u.ps_carve_spare_echo_share) * std::min(c.echoes, int{VoxelMap::kPsEchoMax}) >=
+                                            u.ps_carve_spare_echo_share * std::min(c.crossings, int{VoxelMap::kPsCrossingsMax});
+                    ++c.crossings;
+                    if (spared) continue;
                     const double dist = (tree.keyToCoord(key) - oa).norm();
                     tree.updateNode(key, free_increment * static_cast<float>(std::exp(-alpha * dist / range)));
                 }
                 octomap::OcTreeKey end_key;
-                if (u.ps_endpoint_hits && tree.coordToKeyChecked(oe, end_key) && grid.inGrid(end_key))
-                    tree.updateNode(end_key, hit_increment * static_cast<float>(m.echo_strength));
+                if (tree.coordToKeyChecked(oe, end_key) && grid.inGrid(end_key)) {
+                    ++ps_counts[end_key].echoes;
+                    if (u.ps_endpoint_hits) tree.updateNode(end_key, hit_increment * static_cast<float>(m.echo_strength));
+                }
             }
         }
     }
@@ -509,8 +532,8 @@ int main(int argc, char** argv) {
     for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user, &add_only}) printRow(*r, voxelmap);
     printRow(fls_now, fls_now);
     for (const Row* r : {&ps_now, &ps_table}) printRow(*r, ps_now);
-    std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags + above-seabed votes) + FlsUpdater slots %.1f MB; OcTree %.1f MB\n",
-                map.size() * 6.0 / 1e6, map.size() * 4.0 / 1e6, octo_memory / 1e6);
+    std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags + above-seabed votes + PS crossings) + FlsUpdater slots %.1f MB; OcTree %.1f MB\n",
+                map.size() * 7.0 / 1e6, map.size() * 4.0 / 1e6, octo_memory / 1e6);
     if (voxelmap.ran && octo.ran) {
         const double speedup = octo.best / voxelmap.best;
         std::printf("ratio (a/b): ours is %.1fx faster than OctoMap on the identical stream  [target >= 20x: %s]\n",

@@ -112,16 +112,21 @@ namespace {
 
 // Records the updates libfusion's own updaters hand to their sink (the very
 // code the Mapper runs), in their order, into the stream.
+// The PS carver decides from the echo and crossing counts a voxel holds before
+// each ray (UpdateConfig::ps_carve_spare_echo_share), so the sink keeps those
+// counts in `counts`, a map that sees exactly the PS rays the Mapper's does.
 class StreamSink {
 public:
-    StreamSink(UpdateStream& out, bool fls) : out_(out), fls_(fls) {}
+    StreamSink(UpdateStream& out, bool fls, VoxelMap& counts) : out_(out), fls_(fls), counts_(counts) {}
     void add(std::size_t v, float delta, uint8_t flag) {
         out_.updates.push_back({static_cast<uint32_t>(v), delta});
         out_.update_flag.push_back(flag);
         ++(fls_ ? out_.fls_updates : out_.ps_updates);
         if (!fls_ && !out_.rays.empty()) out_.rays.back().end_update = static_cast<uint32_t>(out_.updates.size());
     }
-    void echo(std::size_t /*v*/) {}  // flags and echo counts are not part of the log-odds stream
+    // Flags and echo and crossing counts are not part of the log-odds stream.
+    void echo(std::size_t v) { counts_.addPsEcho(v); }
+    void crossed(std::size_t v) { counts_.writer().addPsCrossing(v); }
     void aboveSeabed(std::size_t /*v*/) {}  // nor the above-seabed vote counts
     void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& carve_end, const Eigen::Vector3d& echo) {
         const auto at = static_cast<uint32_t>(out_.updates.size());
@@ -131,6 +136,7 @@ public:
 private:
     UpdateStream& out_;
     bool fls_;
+    VoxelMap& counts_;
 };
 
 }  // namespace
@@ -155,6 +161,7 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
     NavBuffer nav(cfg.nav_buffer_capacity, cfg.max_nav_gap_us);
     FlsUpdater fls_recorder(mapper.flsModel(), cfg.update, mapper.map());  // its own scratch
     PsCarver ps_recorder(mapper.psModel(), cfg.update);
+    VoxelMap counts(cfg.map);  // the PS echo and crossing counts the carver decides from
 
     for (const ScenarioLog::Event& ev : log.order) {
         if (ev.kind == ScenarioLog::Event::Nav) {
@@ -165,6 +172,10 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
         const bool mapping = mapper.map().initialised();
         const Outcome outcome = feedEvent(log, ev, mapper);
         if (!mapping || outcome != Outcome::Used) continue;
+        if (!counts.initialised()) {
+            counts.initialiseAt(mapper.map().centre());
+            if (counts.origin() != mapper.map().origin()) throw std::runtime_error("recorder: count map origin differs from the Mapper's");
+        }
         MessageRecord m{};
         m.source = ev.index;
         m.begin = static_cast<uint32_t>(s.updates.size());
@@ -176,7 +187,7 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             m.world_from_sensor = sensorToWorld(pose, cfg.fls_mount);
             m.seabed = mapper.lastFlsSeabed();
             fls_recorder.setSeabed(m.seabed);
-            StreamSink sink(s, true);
+            StreamSink sink(s, true, counts);
             fls_recorder.apply(frameOf(f), m.world_from_sensor, mapper.map(), sink);
             ++s.fls_frames;
         } else {
@@ -197,8 +208,8 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             m.echo_strength = ping.intensity[group->peak] / 255.0;
             m.carve_range = carveStopRange(ping, *group, cfg.ps_selection, cfg.update.ps_carve_noise_sigmas);
             m.ray_begin = static_cast<uint32_t>(s.rays.size());
-            StreamSink sink(s, false);
-            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, mapper.map(), sink, m.echo_strength,
+            StreamSink sink(s, false, counts);
+            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, counts, sink, m.echo_strength,
                               m.carve_range);
             m.ray_end = static_cast<uint32_t>(s.rays.size());
             ++s.ps_pings;

@@ -144,6 +144,20 @@ struct UpdateConfig {
     // (docs/algorithm.md, "Carving stops at the first echo"). 0: carve up to
     // the selected echo (the paper, Eq. 13).
     double ps_carve_noise_sigmas = 4.0;
+    // A PS ray does not carve a voxel in which PS echoes ended for at least
+    // this share of the PS rays that reached it so far (ended in it or crossed
+    // it), and for at least ps_carve_spare_min_echoes rays. Echoes say a
+    // surface is in the voxel; a ray that crossed it without an echo says part
+    // of it is water, or that the surface there faces away: a surface seen
+    // from one side returns nothing at grazing incidence from the other, and
+    // the rays that then pass through its voxel on their way to a farther echo
+    // carved it away (the wedge's ramp, the dog-leg pyramid's faces). 0.3 is
+    // the echo share that separated true surface voxels from false ones
+    // (docs/algorithm.md, "Carving spares the voxels the PS saw as surface").
+    // 0: every voxel a ray crossed is carved (the paper, Eq. 13).
+    double ps_carve_spare_echo_share = 0.3;
+    // Two rays: one echo alone may be a fan-edge ray of a single ping.
+    int ps_carve_spare_min_echoes = 2;
     // PS-only reconstruction: the end voxel of each PS ray gets an occupied
     // update (delta L_o) instead of being left alone. Only the carve_only variant.
     bool ps_endpoint_hits = true;

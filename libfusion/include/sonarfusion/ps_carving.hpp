@@ -16,7 +16,8 @@ namespace sonarfusion {
 
 struct PsCarveStats {
     int rays = 0;
-    int voxels_carved = 0;
+    int voxels_carved = 0;  // visited by the walk (carved or spared)
+    int voxels_spared = 0;  // held PS echoes for enough of the rays that reached them (not carved)
     int endpoints_in_map = 0;
     int endpoints_outside_map = 0;
 };
@@ -64,6 +65,9 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
     const bool shorter = carve_range >= 0.0 && carve_range < selected_range;
     // Eq. 13's t stays the fraction of the echo's range, however far the carving goes.
     const float t_scale = shorter ? static_cast<float>(carve_range / selected_range) : 1.0f;
+    const double share = cfg_.ps_carve_spare_echo_share;
+    const bool spare = share > 0.0;
+    const int spare_min_echoes = cfg_.ps_carve_spare_min_echoes;
     for (int k = 0; k < model_.fanSamples(); ++k) {
         const Eigen::Vector3d dir = world_from_sensor.linear() * model_.direction(head_angle, k);
         const Eigen::Vector3d end = origin + selected_range * dir;
@@ -71,6 +75,14 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
         ++st.rays;
         sink.ray(origin, carve_end, end);
         const WalkResult w = walkSegment(map, origin, carve_end, [&](std::size_t v, double t) {
+            // UpdateConfig::ps_carve_spare_echo_share: E >= share (E + C), E = echoes, C = crossings so far.
+            const bool spared = spare && map.psEchoCount(v) >= spare_min_echoes &&
+                                (1.0 - share) * map.psEchoCount(v) >= share * map.psCrossings(v);
+            sink.crossed(v);
+            if (spared) {
+                ++st.voxels_spared;
+                return;
+            }
             sink.add(v, free_increment_ * std::exp(-alpha * t_scale * static_cast<float>(t)), VoxelMap::kPsObserved);  // Eq. 13
         });
         st.voxels_carved += w.visited;

@@ -1,6 +1,6 @@
 // Where the updaters' voxel updates go. The mapper writes them into its map
 // (MapWriterSink); a benchmark or a test can record the very same stream by
-// passing its own sink with the same four calls.
+// passing its own sink with the same five calls.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,6 +15,7 @@ namespace sonarfusion {
 //   void add(std::size_t voxel, float delta, uint8_t flag)  // log-odds update, then set flag
 //   void echo(std::size_t voxel)                            // a PS echo ended here (flag + count)
 //   void ray(origin, carve_end, echo)  // a PS ray starts: carved up to carve_end, its echo at echo
+//   void crossed(std::size_t voxel)                         // a PS ray crossed it (counted, carved or spared)
 //   void aboveSeabed(std::size_t voxel)                     // an FLS vote the seabed cannot explain
 class MapWriterSink {
 public:
@@ -29,6 +30,7 @@ public:
     }
     void ray(const Eigen::Vector3d& /*origin*/, const Eigen::Vector3d& /*carve_end*/, const Eigen::Vector3d& /*echo*/) {}
     void aboveSeabed(std::size_t v) { out_.addAboveSeabedVote(v); }
+    void crossed(std::size_t v) { out_.addPsCrossing(v); }
 
 private:
     VoxelMap& map_;

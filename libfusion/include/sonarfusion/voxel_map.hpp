@@ -42,6 +42,8 @@ public:
     // Saturation of the per-voxel count of FLS frames whose vote the seabed
     // cannot explain (flsAboveSeabedVotes).
     static constexpr uint8_t kAboveSeabedVotesMax = 255;
+    // Saturation of the per-voxel count of PS rays that crossed (carved) it.
+    static constexpr uint8_t kPsCrossingsMax = 255;
 
     explicit VoxelMap(const MapConfig& cfg);
 
@@ -90,6 +92,11 @@ public:
     [[nodiscard]] int flsAboveSeabedVotes(std::size_t i) const { return above_seabed_votes_[i]; }
     void setFlsAboveSeabedVotes(std::size_t i, uint8_t n) { above_seabed_votes_[i] = n; }
 
+    // PS rays that crossed this voxel on the way to an echo farther out (the
+    // rays Eq. 13 carves with, spared or not; UpdateConfig::ps_carve_spare_echo_share).
+    // Saturates at kPsCrossingsMax. Checkpointed, not saved in the map file.
+    [[nodiscard]] int psCrossings(std::size_t i) const { return ps_crossings_[i]; }
+
     // Eqs. 6/13 followed by the clamp of Eqs. 7-8 (min/max compiles branch-free).
     void add(std::size_t i, float delta) {
         log_odds_[i] = std::min(std::max(log_odds_[i] + delta, clamp_min_), clamp_max_);
@@ -102,16 +109,19 @@ public:
     class Writer {
     public:
         explicit Writer(VoxelMap& m)
-            : l_(m.log_odds_.data()), f_(m.flags_.data()), above_(m.above_seabed_votes_.data()), lo_(m.clamp_min_),
+            : l_(m.log_odds_.data()), f_(m.flags_.data()), above_(m.above_seabed_votes_.data()),
+              crossed_(m.ps_crossings_.data()), lo_(m.clamp_min_),
               hi_(m.clamp_max_) {}
         void add(std::size_t i, float delta) { l_[i] = std::min(std::max(l_[i] + delta, lo_), hi_); }
         void setFlag(std::size_t i, uint8_t flag) { f_[i] |= flag; }
         void addAboveSeabedVote(std::size_t i) { above_[i] = static_cast<uint8_t>(above_[i] + (above_[i] < kAboveSeabedVotesMax)); }
+        void addPsCrossing(std::size_t i) { crossed_[i] = static_cast<uint8_t>(crossed_[i] + (crossed_[i] < kPsCrossingsMax)); }
 
     private:
         float* l_;
         uint8_t* f_;
         uint8_t* above_;
+        uint8_t* crossed_;
         float lo_, hi_;
     };
     [[nodiscard]] Writer writer() { return Writer(*this); }
@@ -121,7 +131,7 @@ public:
 
     [[nodiscard]] float clampMin() const { return clamp_min_; }
     [[nodiscard]] float clampMax() const { return clamp_max_; }
-    // Checkpoints: origin, anchoring, log-odds, flags and above-seabed votes (sizes must match).
+    // Checkpoints: origin, anchoring, log-odds, flags, above-seabed votes and PS crossings (sizes must match).
     void saveState(StateWriter& w) const;
     [[nodiscard]] bool loadState(StateReader& r);
     [[nodiscard]] const std::vector<float>& logOddsData() const { return log_odds_; }
@@ -138,6 +148,7 @@ private:
     std::vector<float> log_odds_;
     std::vector<uint8_t> flags_;
     std::vector<uint8_t> above_seabed_votes_;
+    std::vector<uint8_t> ps_crossings_;
 };
 
 }  // namespace sonarfusion
