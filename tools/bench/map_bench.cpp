@@ -175,8 +175,7 @@ double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, cons
 class PsTableCarver {
 public:
     PsTableCarver(const PsModel& model, const UpdateConfig& cfg)
-        : model_(model), free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free))),
-          share_(cfg.ps_carve_spare_echo_share), spare_min_echoes_(cfg.ps_carve_spare_min_echoes) {
+        : model_(model), cfg_(cfg), free_increment_(static_cast<float>(logOddsFromProbability(cfg.p_free))) {
         for (int i = 0; i <= kSteps; ++i)
             table_[i] = free_increment_ * std::exp(-static_cast<float>(cfg.alpha_ps) * static_cast<float>(i) / kSteps);
         table_[kSteps + 1] = table_[kSteps];
@@ -191,8 +190,7 @@ public:
             const Eigen::Vector3d end = origin + range * dir;
             const WalkResult w = walkSegment(map, origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end,
                                              [&](std::size_t v, double t) {
-                const bool spared = share_ > 0.0 && map.psEchoCount(v) >= spare_min_echoes_ &&
-                                    (1.0 - share_) * map.psEchoCount(v) >= share_ * map.psCrossings(v);  // as PsCarver
+                const bool spared = sparesSurfaceVoxel(cfg_, map.psEchoCount(v), map.psCrossings(v));  // as PsCarver
                 map.writer().addPsCrossing(v);
                 if (spared) return;
                 const float x = static_cast<float>(t * t_scale) * kSteps;
@@ -211,9 +209,8 @@ public:
 private:
     static constexpr int kSteps = 1024;
     const PsModel& model_;
+    UpdateConfig cfg_;  // the sparing rule's share and minimum (sparesSurfaceVoxel)
     float free_increment_;
-    double share_;          // UpdateConfig::ps_carve_spare_echo_share
-    int spare_min_echoes_;  // UpdateConfig::ps_carve_spare_min_echoes
     float table_[kSteps + 2];
 };
 
@@ -308,9 +305,8 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                 for (const octomap::OcTreeKey& key : ray) {
                     if (!grid.inGrid(key)) continue;
                     PsCounts& c = ps_counts[key];
-                    const bool spared = u.ps_carve_spare_echo_share > 0.0 && c.echoes >= u.ps_carve_spare_min_echoes &&
-                                        (1.0 - u.ps_carve_spare_echo_share) * std::min(c.echoes, int{VoxelMap::kPsEchoMax}) >=
-                                            u.ps_carve_spare_echo_share * std::min(c.crossings, int{VoxelMap::kPsCrossingsMax});
+                    const bool spared = sparesSurfaceVoxel(u, std::min(c.echoes, int{VoxelMap::kPsEchoMax}),
+                                                           std::min(c.crossings, int{VoxelMap::kPsCrossingsMax}));
                     ++c.crossings;
                     if (spared) continue;
                     const double dist = (tree.keyToCoord(key) - oa).norm();

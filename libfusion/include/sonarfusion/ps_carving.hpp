@@ -29,6 +29,15 @@ struct PsCarveStats {
 [[nodiscard]] double carveStopRange(const PsPing& ping, const PsEchoGroup& group, const PsSelectionConfig& selection,
                                     double noise_sigmas);
 
+// UpdateConfig::ps_carve_spare_echo_share: whether a ray spares (does not carve)
+// a voxel where `echoes` PS echoes ended and `crossings` rays crossed it so far:
+// E >= ps_carve_spare_min_echoes and E >= share (E + C). Counts as the map keeps
+// them (saturating); the share 0 spares nothing (the paper's Eq. 13).
+[[nodiscard]] inline bool sparesSurfaceVoxel(const UpdateConfig& cfg, int echoes, int crossings) {
+    const double share = cfg.ps_carve_spare_echo_share;
+    return share > 0.0 && echoes >= cfg.ps_carve_spare_min_echoes && (1.0 - share) * echoes >= share * crossings;
+}
+
 class PsCarver {
 public:
     PsCarver(const PsModel& model, const UpdateConfig& cfg);
@@ -65,9 +74,7 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
     const bool shorter = carve_range >= 0.0 && carve_range < selected_range;
     // Eq. 13's t stays the fraction of the echo's range, however far the carving goes.
     const float t_scale = shorter ? static_cast<float>(carve_range / selected_range) : 1.0f;
-    const double share = cfg_.ps_carve_spare_echo_share;
-    const bool spare = share > 0.0;
-    const int spare_min_echoes = cfg_.ps_carve_spare_min_echoes;
+    const bool spare = cfg_.ps_carve_spare_echo_share > 0.0;
     for (int k = 0; k < model_.fanSamples(); ++k) {
         const Eigen::Vector3d dir = world_from_sensor.linear() * model_.direction(head_angle, k);
         const Eigen::Vector3d end = origin + selected_range * dir;
@@ -75,9 +82,7 @@ PsCarveStats PsCarver::apply(double head_angle, double selected_range, const Eig
         ++st.rays;
         sink.ray(origin, carve_end, end);
         const WalkResult w = walkSegment(map, origin, carve_end, [&](std::size_t v, double t) {
-            // UpdateConfig::ps_carve_spare_echo_share: E >= share (E + C), E = echoes, C = crossings so far.
-            const bool spared = spare && map.psEchoCount(v) >= spare_min_echoes &&
-                                (1.0 - share) * map.psEchoCount(v) >= share * map.psCrossings(v);
+            const bool spared = spare && sparesSurfaceVoxel(cfg_, map.psEchoCount(v), map.psCrossings(v));
             sink.crossed(v);
             if (spared) {
                 ++st.voxels_spared;
