@@ -185,13 +185,14 @@ public:
         const Eigen::Vector3d origin = world_from_sensor.translation();
         const bool shorter = carve_range >= 0.0 && carve_range < range;
         const double t_scale = shorter ? carve_range / range : 1.0;  // as PsCarver: t is a fraction of the echo's range
+        VoxelMap::Writer counts = map.writer();  // the crossing counts, as MapWriterSink keeps them
         for (int k = 0; k < model_.fanSamples(); ++k) {
             const Eigen::Vector3d dir = world_from_sensor.linear() * model_.direction(head_angle, k);
             const Eigen::Vector3d end = origin + range * dir;
             const WalkResult w = walkSegment(map, origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end,
                                              [&](std::size_t v, double t) {
                 const bool spared = sparesSurfaceVoxel(cfg_, map.psEchoCount(v), map.psCrossings(v));  // as PsCarver
-                map.writer().addPsCrossing(v);
+                counts.addPsCrossing(v);
                 if (spared) return;
                 const float x = static_cast<float>(t * t_scale) * kSteps;
                 const int i = static_cast<int>(x);

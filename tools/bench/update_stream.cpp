@@ -117,7 +117,8 @@ namespace {
 // counts in `counts`, a map that sees exactly the PS rays the Mapper's does.
 class StreamSink {
 public:
-    StreamSink(UpdateStream& out, bool fls, VoxelMap& counts) : out_(out), fls_(fls), counts_(counts) {}
+    StreamSink(UpdateStream& out, bool fls, VoxelMap& counts)
+        : out_(out), fls_(fls), counts_(counts), crossings_(counts.writer()) {}
     void add(std::size_t v, float delta, uint8_t flag) {
         out_.updates.push_back({static_cast<uint32_t>(v), delta});
         out_.update_flag.push_back(flag);
@@ -126,7 +127,7 @@ public:
     }
     // Flags and echo and crossing counts are not part of the log-odds stream.
     void echo(std::size_t v) { counts_.addPsEcho(v); }
-    void crossed(std::size_t v) { counts_.writer().addPsCrossing(v); }
+    void crossed(std::size_t v) { crossings_.addPsCrossing(v); }
     void aboveSeabed(std::size_t /*v*/) {}  // nor the above-seabed vote counts
     void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& carve_end, const Eigen::Vector3d& echo) {
         const auto at = static_cast<uint32_t>(out_.updates.size());
@@ -137,6 +138,7 @@ private:
     UpdateStream& out_;
     bool fls_;
     VoxelMap& counts_;
+    VoxelMap::Writer crossings_;
 };
 
 }  // namespace
