@@ -373,17 +373,17 @@ void Segmenter::label(const VoxelMap& map) {
     for (std::size_t i = 0; i < map.size(); ++i) {
         label_[i] = 0;
         if (!occupied_[i]) continue;
-        if (!aboveBaseline(map, i, 0.0)) continue;
-        // The voxel the seabed surface runs through (its centre above the
-        // baseline, its bottom face below) is the object's base where an object
-        // stands on it and seabed everywhere else: it joins only straight down.
-        // A baseline on its centre (a column whose echoes all fell in it; the
-        // plane fits return that to within rounding) leaves it seabed.
-        const bool holds_seabed = baseline_at_echo_centres_ && !aboveBaseline(map, i, 0.5 * res);
+        // The voxel the seabed surface runs through (its box holds the
+        // baseline, wherever in it) is the object's base where an object stands
+        // on it, and seabed everywhere else: it joins only straight down. An
+        // object resting on a surface inside that voxel reaches into it.
+        const bool holds_seabed = baseline_at_echo_centres_ && aboveBaseline(map, i, -0.5 * res) &&
+                                  !aboveBaseline(map, i, 0.5 * res);
         if (holds_seabed) {
-            if (cfg_.fill_below_objects && aboveBaseline(map, i, 0.01 * res)) label_[i] = -4;
+            if (cfg_.fill_below_objects) label_[i] = -4;
             continue;
         }
+        if (!aboveBaseline(map, i, 0.0)) continue;
         if (!confirmedByPs(map, i)) {
             ++stats_.unconfirmed_voxels;
             // Where no PS ray ever went, the FLS (with its own free space) is
