@@ -120,6 +120,7 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("ps_echo_min_fraction", g.ps_echo_min_fraction);
     seg.read("ps_echo_reference_above_seabed", g.ps_echo_reference_above_seabed);
     seg.read("ps_echo_seen_above_seabed", g.ps_echo_seen_above_seabed);
+    seg.read("ps_crossed_confirmed_from_level_or_above", g.ps_crossed_confirmed_from_level_or_above);
     seg.read("fls_only_extension", g.fls_only_extension);
     if (seg.has("fls_above_seabed_min_votes")) seg.read("fls_above_seabed_min_votes", g.fls_above_seabed_min_votes);
     else {  // derived from the update model (docs/mapper-config.md): 1..255 (the count saturates there)

@@ -328,7 +328,29 @@ void Segmenter::markConfirmed(const VoxelMap& map) {
         }
     }
     for (std::size_t i = 0; i < map.size(); ++i) confirmed_[i] = label_[i] >= echo_threshold_ ? 1 : 0;
+    if (cfg_.ps_crossed_confirmed_from_level_or_above) dropWaterAboveEchoes(map);
     if (cfg_.ps_echo_seen_above_seabed) dropMirrorEchoes(map);
+}
+
+// SegmentationConfig::ps_crossed_confirmed_from_level_or_above: PS rays crossed
+// the voxel and none ended in it, so they went on to a surface beyond; when only
+// the echoes of the layer below it reach the threshold, that surface is under
+// it and the voxel is the water above it (NED: the layer below is c.z + 1).
+void Segmenter::dropWaterAboveEchoes(const VoxelMap& map) {
+    const int r = cfg_.ps_echo_radius;
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        if (!confirmed_[i] || !map.psObserved(i) || map.psEchoCount(i) > 0) continue;
+        const VoxelIndex c = map.fromLinear(i);
+        int level_or_above = 0;
+        for (int z = std::max(0, c.z - r); z <= c.z; ++z)
+            for (int y = std::max(0, c.y - r); y <= std::min(ny_ - 1, c.y + r); ++y)
+                for (int x = std::max(0, c.x - r); x <= std::min(nx_ - 1, c.x + r); ++x)
+                    level_or_above += map.psEchoCount(map.linear({x, y, z}));
+        if (level_or_above < echo_threshold_) {
+            confirmed_[i] = 0;
+            ++stats_.water_above_echo_voxels;
+        }
+    }
 }
 
 // SegmentationConfig::ps_echo_seen_above_seabed: a confirmed voxel whose

@@ -601,3 +601,57 @@ TEST(SegmentationEchoField, TheFlsTellsAnObjectFromItsPsMirror) {
     EXPECT_EQ(objects(Fls::None, true), 2);
     EXPECT_EQ(objects(Fls::VotedBoth, true), 2) << "a map with no above-seabed count at all is judged by the PS alone";
 }
+
+// PS rays crossed a voxel and none ended in it: they went on to a surface
+// beyond. When only the echoes of the layer below reach the threshold, that
+// surface is under the voxel and the voxel is the water above it. Found on the
+// reference boxes: a fin of FLS-occupied voxels 1-2 layers above each top
+// edge, where the PS fan's edge barely carves, was confirmed by the top's
+// echoes below it (36 of the 41 false voxels of the 90 deg box).
+TEST(SegmentationEchoField, CrossedWaterAboveASurfaceIsNotConfirmedByTheEchoesBelowIt) {
+    auto build = [](VoxelMap& m) {
+        m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // seabed top at layer 80
+        for (int iy = 0; iy < 100; ++iy)
+            for (int ix = 0; ix < 100; ++ix) {
+                for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+                if (iy >= 30 && iy < 70)
+                    for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
+            }
+        // A 0.5 m block, layers 75..79, its top echoed.
+        for (int ix = 45; ix < 55; ++ix)
+            for (int iy = 45; iy < 55; ++iy) {
+                for (int iz = 75; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+                m.setFlag(m.linear({ix, iy, 75}), VoxelMap::kPsObserved);
+                for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 75}));
+            }
+        // The fin: occupied by the FLS one layer above the top's east edge,
+        // crossed by PS rays, no echo of its own.
+        for (int ix = 45; ix < 55; ++ix) {
+            const std::size_t v = m.linear({ix, 54, 74});
+            m.add(v, 3.0f);
+            m.setFlag(v, VoxelMap::kPsObserved);
+        }
+        // A face voxel beside the top (same layer), crossed, no echo: its
+        // support is beside it, so it stays confirmed.
+        const std::size_t face = m.linear({50, 55, 75});
+        m.add(face, 3.0f);
+        m.setFlag(face, VoxelMap::kPsObserved);
+    };
+    VoxelMap m{MapConfig{}};
+    build(m);
+    Segmenter seg(SegmentationConfig{}, true, m);
+    const SegmentationStats& st = seg.run(m);
+    ASSERT_EQ(st.objects, 1);
+    // The block, its base (layer 80 under it), the face voxel; not the fin.
+    EXPECT_EQ(seg.objects()[0].voxel_count, 10 * 10 * 6 + 1);
+    EXPECT_EQ(st.water_above_echo_voxels, 10);
+    EXPECT_NEAR(seg.objects()[0].bbox_min.z(), 15.0 + 7.5, 1e-6) << "the fin above the top was reported";
+
+    SegmentationConfig whole_neighbourhood;
+    whole_neighbourhood.ps_crossed_confirmed_from_level_or_above = false;
+    Segmenter old(whole_neighbourhood, true, m);
+    old.run(m);
+    ASSERT_EQ(old.stats().objects, 1);
+    EXPECT_EQ(old.objects()[0].voxel_count, 10 * 10 * 6 + 1 + 10);
+    EXPECT_EQ(old.stats().water_above_echo_voxels, 0);
+}

@@ -277,6 +277,13 @@ struct SegmentationConfig {
     // side (docs/algorithm.md, "The PS's mirror image"). Voxels the FLS never
     // voted, and maps with no above-seabed count at all, keep the PS rule alone.
     bool ps_echo_seen_above_seabed = true;
+    // A voxel PS rays crossed without one echo ending in it is confirmed only
+    // by echoes in its own layer or above it (within ps_echo_radius), not by
+    // those of the layer below: the rays that crossed it went on to the surface
+    // below, so it is the water above that surface, which the FLS's elevation
+    // arcs fill where the PS fan edge barely carves (docs/algorithm.md, "Water
+    // the PS crossed above a surface"). False: the whole neighbourhood counts.
+    bool ps_crossed_confirmed_from_level_or_above = true;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `segmentation` block
 };
 

@@ -30,6 +30,7 @@ struct SegmentationStats {
     int candidate_voxels = 0;      // occupied, above the seabed surface, (PS-confirmed if required)
     int unconfirmed_voxels = 0;    // would be candidates but the PS never confirmed them
     int mirror_echo_voxels = 0;    // echo-confirmed, but the FLS saw nothing above the seabed there
+    int water_above_echo_voxels = 0;  // crossed, echo-less, confirmed only by the layer below
     int objects = 0;
     int objects_dropped = 0;       // beyond max_objects
 };
@@ -66,6 +67,7 @@ private:
     void smoothBaselineAlongTrack(int half, bool exclude_raised);
     [[nodiscard]] bool aboveBaseline(const VoxelMap& map, std::size_t voxel, double margin) const;
     void markConfirmed(const VoxelMap& map);
+    void dropWaterAboveEchoes(const VoxelMap& map);
     void dropMirrorEchoes(const VoxelMap& map);
     [[nodiscard]] bool confirmedByPs(const VoxelMap& map, std::size_t voxel) const;
     void label(const VoxelMap& map);
