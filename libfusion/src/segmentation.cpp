@@ -339,7 +339,8 @@ void Segmenter::markConfirmed(const VoxelMap& map) {
 void Segmenter::dropWaterAboveEchoes(const VoxelMap& map) {
     const int r = cfg_.ps_echo_radius;
     for (std::size_t i = 0; i < map.size(); ++i) {
-        if (!confirmed_[i] || !map.psObserved(i) || map.psEchoCount(i) > 0) continue;
+        // Only occupied voxels can become object voxels (label()), so only theirs matters.
+        if (!confirmed_[i] || !occupied_[i] || !map.psObserved(i) || map.psEchoCount(i) > 0) continue;
         const VoxelIndex c = map.fromLinear(i);
         int level_or_above = 0;
         for (int z = std::max(0, c.z - r); z <= c.z; ++z)

@@ -2,13 +2,15 @@
 """Collects the suite's results and prints ONE markdown table: scenario x variant -> precision,
 visible recall, F1, Chamfer, objects found / true, and the bars (fused rows).
 
-usage: suite_table.py BUILD_DIR [--out FILE.md] [--strict]
+usage: suite_table.py BUILD_DIR [--out FILE.md] [--strict] [--scenarios DIR]
 
 Reads BUILD_DIR/tests/suite/<scenario>/{check.json,report.json,steps.json} (or BUILD_DIR itself
 when it holds the scenario folders) for every scenario of scenarios/suite/. A scenario that did
 not run, or whose mapper or evaluator failed, gets a row saying so; nothing here raises on a
 missing or broken file. --strict: exit 1 when any scenario missed a bar or did not run (the
 ctest `suite_table` uses it, so --output-on-failure shows the table whenever something failed).
+--scenarios DIR: the folder whose *.yaml files name the rows (default scenarios/suite;
+tools/holdout passes scenarios/holdout).
 """
 import glob
 import json
@@ -42,6 +44,11 @@ def main(argv):
     strict = "--strict" in argv
     argv = [a for a in argv if a != "--strict"]
     out_md = None
+    suite = SUITE
+    if "--scenarios" in argv:
+        k = argv.index("--scenarios")
+        suite = argv[k + 1]
+        argv = argv[:k] + argv[k + 2:]
     if "--out" in argv:
         k = argv.index("--out")
         out_md = argv[k + 1]
@@ -51,7 +58,8 @@ def main(argv):
     root = argv[0]
     if os.path.isdir(os.path.join(root, "tests", "suite")):
         root = os.path.join(root, "tests", "suite")
-    names = sorted(os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(SUITE, "*.yaml")))
+    names = sorted(os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(suite, "*.yaml"))
+                   if os.path.basename(p) != "expectations.yaml")
     rows = ["| scenario | variant | precision | recall_visible | F1 | chamfer_cm | objects found/true | bars |",
             "|---|---|---|---|---|---|---|---|"]
     passed = failed = missing = 0
