@@ -395,7 +395,15 @@ void Segmenter::label(const VoxelMap& map) {
     // join one (hysteresis: an object keeps its lowest layers).
     for (std::size_t i = 0; i < map.size(); ++i) {
         label_[i] = 0;
-        if (!occupied_[i]) continue;
+        if (!occupied_[i]) {
+            // A voxel no update ever reached (prior log-odds, no flag) lies in
+            // the shadow of what is above it: below an object, its body. The
+            // fill below may pass through it (fill_below_through_unobserved).
+            if (cfg_.fill_below_objects && cfg_.fill_below_through_unobserved && map.logOdds(i) == 0.0f &&
+                map.flags(i) == 0 && aboveBaseline(map, i, -0.5 * res))
+                label_[i] = -4;
+            continue;
+        }
         // The voxel the seabed surface runs through (its box holds the
         // baseline, wherever in it) is the object's base where an object stands
         // on it, and seabed everywhere else: it joins only straight down. An

@@ -241,6 +241,13 @@ struct SegmentationConfig {
     // looks down at 20-60 deg and never sees under an object's top edge or the
     // lower flanks of a rounded body, while the FLS does.
     bool fill_below_objects = true;
+    // With fill_below_objects: the fill also passes through voxels no update
+    // ever reached (log-odds at the prior, no flag), down to the voxel the seabed
+    // runs through. The sonars look down: space under an object's surface that
+    // neither saw lies in the object's shadow, and an object resting on the
+    // seabed fills it (a horizontal cylinder's lower flank under its bulge).
+    // Open space under an overhang is seen from the side, so it is not unobserved.
+    bool fill_below_through_unobserved = true;
     // With seabed_from_ps_echoes: the seabed fit starts from the lower
     // envelope of the echo height field (a morphological opening over
     // baseline_window) instead of a plane through every column, so an object
