@@ -421,8 +421,11 @@ void Segmenter::label(const VoxelMap& map) {
             // the only evidence: such voxels may extend an object (-3), never seed one.
             // With FLS votes the seabed cannot explain (enough to be occupied
             // on those alone), they join an object from any side (-5).
+            // With fls_only_needs_support, not over a voxel a sensor saw as
+            // water (the next layer down, NED i + layer): that vote floats.
+            const bool floats = cfg_.fls_only_needs_support && i + layer < map.size() && map.logOdds(i + layer) < 0.0f;
             if (cfg_.fls_above_seabed_min_votes > 0 && !map.psObserved(i) &&
-                map.flsAboveSeabedVotes(i) >= cfg_.fls_above_seabed_min_votes) label_[i] = -5;
+                map.flsAboveSeabedVotes(i) >= cfg_.fls_above_seabed_min_votes && !floats) label_[i] = -5;
             else if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
             else if (cfg_.fill_below_objects) label_[i] = -4;
             continue;

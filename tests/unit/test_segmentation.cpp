@@ -555,6 +555,38 @@ TEST(Segmentation, OffSwathVoxelsVotedAboveTheSeabedExtendAConfirmedObject) {
     EXPECT_EQ(objectVoxels(255, false), box);
 }
 
+// The FLS knows no elevation: an off-swath vote standing over water a sensor
+// saw (log-odds below 0 in the voxel under it) is an elevation alias, not a
+// part of an object resting on the seabed (fls_only_needs_support). Found on
+// the reference 60 deg box: its last 3 false voxels, 1.5 voxels beside the
+// side walls' top edges, each over carved water.
+TEST(Segmentation, AnOffSwathVoteOverObservedWaterDoesNotExtendAnObject) {
+    auto objectVoxels = [](bool needs_support) {
+        VoxelMap m{MapConfig{}};
+        buildScene(m, true);  // the box: ix 40..49, iy 45..50, iz 70..79
+        for (int iy = 45; iy <= 50; ++iy) {
+            // A supported wing column beside the box, standing on the seabed...
+            for (int iz = 70; iz < 80; ++iz) {
+                const std::size_t v = m.linear({50, iy, iz});
+                m.add(v, 3.0f);
+                m.setFlsAboveSeabedVotes(v, 10);
+            }
+            // ...and beyond it a floating top-layer voxel over water seen as free.
+            const std::size_t v = m.linear({51, iy, 70});
+            m.add(v, 3.0f);
+            m.setFlsAboveSeabedVotes(v, 10);
+            m.add(m.linear({51, iy, 71}), -2.0f);
+        }
+        SegmentationConfig cfg = occupiedSurfaceRules();
+        cfg.fls_only_needs_support = needs_support;
+        Segmenter seg(cfg, true, m);
+        seg.run(m);
+        return seg.stats().objects == 1 ? seg.objects()[0].voxel_count : -1;
+    };
+    EXPECT_EQ(objectVoxels(true), 10 * 6 * 10 + 6 * 10) << "the box and its supported wing, not the floating voxels";
+    EXPECT_EQ(objectVoxels(false), 10 * 6 * 10 + 6 * 10 + 6);
+}
+
 // The PS places each echo on every bearing of its fan (Eq. 11): an object
 // beside the track leaves as many echoes on its mirror across the track, at
 // the same height. Where the FLS voted, only the side where it also saw a

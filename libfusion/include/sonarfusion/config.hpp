@@ -236,6 +236,12 @@ struct SegmentationConfig {
     // occupied_probability, ceil(logit(occupied_probability) /
     // (alpha_fls logit(p_occupied))); 4 with the defaults.
     int fls_above_seabed_min_votes = 4;
+    // Such a voxel joins only when the voxel under it is not water a sensor saw
+    // (log-odds below 0): the FLS knows no elevation, and a vote standing over
+    // observed water is an elevation alias (the reference 60 deg box's last false
+    // voxels, 1.5 voxels beside its side walls' top edges). An object on the
+    // seabed stands on something. False: the votes alone decide.
+    bool fls_only_needs_support = true;
     // Occupied voxels the PS did not confirm join an object when they lie
     // straight below one of its voxels (down to the seabed baseline): the PS
     // looks down at 20-60 deg and never sees under an object's top edge or the
