@@ -634,6 +634,29 @@ TEST(SegmentationEchoField, TheFlsTellsAnObjectFromItsPsMirror) {
     EXPECT_EQ(objects(Fls::VotedBoth, true), 2) << "a map with no above-seabed count at all is judged by the PS alone";
 }
 
+namespace {
+// A flat seabed (occupied layers 80..83: its surface at 23.0 m, origin z 15),
+// echoed 8 times per voxel across the PS swath (iy 30..69), and on it a block
+// over ix, iy 45..54, occupied from layer 75 down to `block_bottom`, its top
+// layer PS-observed with 8 echoes. `hide_foot`: no seabed echo under the block.
+void buildEchoedBlock(VoxelMap& m, int block_bottom, bool hide_foot) {
+    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));
+    const auto under_block = [](int ix, int iy) { return ix >= 45 && ix < 55 && iy >= 45 && iy < 55; };
+    for (int iy = 0; iy < 100; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            if (iy >= 30 && iy < 70 && !(hide_foot && under_block(ix, iy)))
+                for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
+        }
+    for (int ix = 45; ix < 55; ++ix)
+        for (int iy = 45; iy < 55; ++iy) {
+            for (int iz = 75; iz <= block_bottom; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            m.setFlag(m.linear({ix, iy, 75}), VoxelMap::kPsObserved);
+            for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 75}));
+        }
+}
+}  // namespace
+
 // PS rays crossed a voxel and none ended in it: they went on to a surface
 // beyond. When only the echoes of the layer below reach the threshold, that
 // surface is under the voxel and the voxel is the water above it. Found on the
@@ -642,20 +665,7 @@ TEST(SegmentationEchoField, TheFlsTellsAnObjectFromItsPsMirror) {
 // echoes below it (36 of the 41 false voxels of the 90 deg box).
 TEST(SegmentationEchoField, CrossedWaterAboveASurfaceIsNotConfirmedByTheEchoesBelowIt) {
     auto build = [](VoxelMap& m) {
-        m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // seabed top at layer 80
-        for (int iy = 0; iy < 100; ++iy)
-            for (int ix = 0; ix < 100; ++ix) {
-                for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-                if (iy >= 30 && iy < 70)
-                    for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
-            }
-        // A 0.5 m block, layers 75..79, its top echoed.
-        for (int ix = 45; ix < 55; ++ix)
-            for (int iy = 45; iy < 55; ++iy) {
-                for (int iz = 75; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-                m.setFlag(m.linear({ix, iy, 75}), VoxelMap::kPsObserved);
-                for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 75}));
-            }
+        buildEchoedBlock(m, 79, false);  // a 0.5 m block, layers 75..79, its top echoed
         // The fin: occupied by the FLS one layer above the top's east edge,
         // crossed by PS rays, no echo of its own.
         for (int ix = 45; ix < 55; ++ix) {
@@ -696,24 +706,9 @@ TEST(SegmentationEchoField, CrossedWaterAboveASurfaceIsNotConfirmedByTheEchoesBe
 // under an overhang that a sensor saw as water stops the fill.
 TEST(SegmentationEchoField, FillBelowPassesThroughWhatNoSensorObservedButNotThroughWater) {
     auto build = [](VoxelMap& m) {
-        m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // seabed top at layer 80
-        for (int iy = 0; iy < 100; ++iy)
-            for (int ix = 0; ix < 100; ++ix) {
-                for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-                if (iy >= 30 && iy < 70) {
-                    const bool under = ix >= 45 && ix < 55 && iy >= 45 && iy < 55;
-                    if (!under)
-                        for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
-                }
-            }
         // A 0.2 m thick top, layers 75..76, echoed; layers 77..79 under it
         // never updated, except one column seen as water (an opening).
-        for (int ix = 45; ix < 55; ++ix)
-            for (int iy = 45; iy < 55; ++iy) {
-                for (int iz = 75; iz <= 76; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-                m.setFlag(m.linear({ix, iy, 75}), VoxelMap::kPsObserved);
-                for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 75}));
-            }
+        buildEchoedBlock(m, 76, true);
         for (int iz = 77; iz < 80; ++iz) m.add(m.linear({50, 50, iz}), -2.0f);  // the opening
     };
     VoxelMap m{MapConfig{}};
