@@ -129,6 +129,7 @@ DaemonConfig parse(const YAML::Node& root) {
         g.fls_above_seabed_min_votes = votes >= 1.0 ? static_cast<int>(std::min(votes, 255.0)) : 1;  // NaN: 1
     }
     seg.read("fls_only_needs_support", g.fls_only_needs_support);
+    seg.read("fls_only_not_above_ps_top", g.fls_only_not_above_ps_top);
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("fill_below_through_unobserved", g.fill_below_through_unobserved);
     seg.read("seabed_from_lower_envelope", g.seabed_from_lower_envelope);

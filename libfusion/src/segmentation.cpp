@@ -438,6 +438,9 @@ void Segmenter::label(const VoxelMap& map) {
     for (std::size_t seed = 0; seed < map.size(); ++seed) {
         if (label_[seed] != -1) continue;
         const int id = ++next_id;
+        // Seeds are met layer by layer from the top (NED: z index 0 is the
+        // shallowest), so the seed is the object's highest PS-confirmed voxel.
+        const int top_layer = map.fromLinear(seed).z;
         std::size_t head = 0, tail = 0;
         queue_[tail++] = static_cast<uint32_t>(seed);
         label_[seed] = id;
@@ -467,6 +470,11 @@ void Segmenter::label(const VoxelMap& map) {
                         // Unconfirmed occupied voxels join only straight down from the
                         // object: under its top, where the PS is shadowed.
                         if (label_[nl] == -4 && !(dz == 1 && dx == 0 && dy == 0)) continue;
+                        // FLS-only voxels stay within one layer of that top
+                        // (fls_only_not_above_ps_top): above it, elevation aliases.
+                        if ((label_[nl] == -5 || label_[nl] == -3) && cfg_.fls_only_not_above_ps_top &&
+                            n.z < top_layer - 1)
+                            continue;
                         if (label_[nl] == -3) {
                             const int steps = confirmed_[v] + 1;
                             if (steps > cfg_.fls_only_extension) continue;

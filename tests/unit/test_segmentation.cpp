@@ -587,6 +587,40 @@ TEST(Segmentation, AnOffSwathVoteOverObservedWaterDoesNotExtendAnObject) {
     EXPECT_EQ(objectVoxels(false), 10 * 6 * 10 + 6 * 10 + 6);
 }
 
+// Along a straight track the FLS's elevation aliases of a surface lie on arcs
+// rising above it and return at the surface's own range, so they count as votes
+// the seabed cannot explain. The PS measured how high the object stands: an
+// FLS-only voxel joins only up to one layer above the object's highest
+// PS-confirmed voxel (fls_only_not_above_ps_top). Found on the holdout's torpedo
+// flown along 0.6 m off the track: 0.4-0.8 m of supported aliases stood above
+// its far half (precision 0.643).
+TEST(Segmentation, AnOffSwathVoteAboveTheTopThePsSawDoesNotExtendAnObject) {
+    auto objectVoxels = [](bool not_above_top) {
+        VoxelMap m{MapConfig{}};
+        buildScene(m, true);  // the box: ix 40..49, iy 45..50, iz 70..79 (top layer 70)
+        // An FLS-only wing beside the box: a column as tall as the box (its
+        // echoes confirm it), and beyond it, out of their reach, a column from
+        // the seabed up to 4 layers above the box's top.
+        for (int iy = 45; iy <= 50; ++iy)
+            for (int ix : {50, 51})
+                for (int iz = ix == 50 ? 70 : 66; iz < 80; ++iz) {
+                    const std::size_t v = m.linear({ix, iy, iz});
+                    m.add(v, 3.0f);
+                    m.setFlsAboveSeabedVotes(v, 10);
+                }
+        SegmentationConfig cfg = occupiedSurfaceRules();
+        cfg.fls_only_not_above_ps_top = not_above_top;
+        Segmenter seg(cfg, true, m);
+        seg.run(m);
+        if (seg.stats().objects != 1) return -1;
+        EXPECT_NE(seg.objectLabel(m.linear({51, 47, 69})), 0) << "one layer above the top joins";
+        EXPECT_EQ(seg.objectLabel(m.linear({51, 47, 68})) != 0, !not_above_top);
+        return seg.objects()[0].voxel_count;
+    };
+    EXPECT_EQ(objectVoxels(true), 10 * 6 * 10 + 6 * 10 + 6 * 11) << "the box and its wing up to one layer above its top";
+    EXPECT_EQ(objectVoxels(false), 10 * 6 * 10 + 6 * 10 + 6 * 14);
+}
+
 // The PS places each echo on every bearing of its fan (Eq. 11): an object
 // beside the track leaves as many echoes on its mirror across the track, at
 // the same height. Where the FLS voted, only the side where it also saw a

@@ -242,6 +242,15 @@ struct SegmentationConfig {
     // voxels, 1.5 voxels beside its side walls' top edges). An object on the
     // seabed stands on something. False: the votes alone decide.
     bool fls_only_needs_support = true;
+    // Such a voxel (and an fls_only_extension one) joins an object only up to
+    // one layer above the object's highest PS-confirmed voxel: the PS measured
+    // how high the object stands wherever it saw it, while the FLS's elevation
+    // aliases of a surface flown along lie on arcs rising above it, return at
+    // the same range as the surface and so count as votes the seabed cannot
+    // explain (docs/algorithm.md, "FLS-only voxels above what the PS saw").
+    // The one layer: the top surface may reach into the voxel above the
+    // highest confirmed one. False: no height limit.
+    bool fls_only_not_above_ps_top = true;
     // Occupied voxels the PS did not confirm join an object when they lie
     // straight below one of its voxels (down to the seabed baseline): the PS
     // looks down at 20-60 deg and never sees under an object's top edge or the
