@@ -86,6 +86,9 @@ DaemonConfig parse(const YAML::Node& root) {
     up.read("ps_carve_spare_echo_share", m.update.ps_carve_spare_echo_share);
     up.read("ps_carve_spare_min_echoes", m.update.ps_carve_spare_min_echoes);
     up.read("fls_free_vote_ratio", m.update.fls_free_vote_ratio);
+    up.read("fls_highlight_above_seabed", m.update.fls_highlight_above_seabed);
+    up.read("fls_highlight_half_window", m.update.fls_highlight_half_window);
+    up.read("fls_highlight_false_alarm", m.update.fls_highlight_false_alarm);
     up.read("require_ps_observation", m.update.require_ps_observation);
     up.rejectUnknownKeys();
 

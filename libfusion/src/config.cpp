@@ -98,6 +98,9 @@ Check UpdateConfig::validate() const {
     if (!(alpha_fls > 0.0) || !finite(alpha_fls)) return bad("alpha_fls", "must be finite and > 0");
     if (!(fls_free_vote_ratio > 0.0) || !finite(fls_free_vote_ratio)) return bad("fls_free_vote_ratio", "must be finite and > 0");
     if (!(p_free > 0.0 && p_free < 0.5)) return bad("p_free", "must be in (0, 0.5)");
+    if (!inRange(fls_highlight_half_window, 0, 8)) return bad("fls_highlight_half_window", range(0, 8));
+    if (!(fls_highlight_false_alarm > 0.0 && fls_highlight_false_alarm < 1.0))
+        return bad("fls_highlight_false_alarm", "must be in (0, 1)");
     if (!(alpha_ps >= 0.0) || !finite(alpha_ps)) return bad("alpha_ps", "must be finite and >= 0");
     if (!inRange(fls_intensity_threshold, 0, 255)) return bad("fls_intensity_threshold", range(0, 255));
     if (!(fls_free_space_noise_sigmas >= 0.0) || !finite(fls_free_space_noise_sigmas))

@@ -13,7 +13,10 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
     : cfg_(cfg), increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
       free_increment_(static_cast<float>(-cfg.fls_free_vote_ratio * logOddsFromProbability(cfg.p_occupied) * cfg.alpha_fls)),
       geo_(static_cast<std::size_t>(std::max(1, geometries))),
-      max_arc_samples_(std::max(max_arc_samples, model.elevationSamples())) {
+      max_arc_samples_(std::max(max_arc_samples, model.elevationSamples())),
+      highlight_(cfg.fls_highlight_above_seabed ? std::max(model.rowCapacity(), model.rows()) : 0,
+                 cfg.fls_highlight_above_seabed ? std::max(model.colCapacity(), model.cols()) : 0,
+                 cfg.fls_highlight_half_window, cfg.fls_highlight_false_alarm) {
     if (cfg.fls_arc_spacing_voxels > 0.0) arc_spacing_ = cfg.fls_arc_spacing_voxels * map.resolution();
     buildTables(geo_[0], model);
     std::size_t world = geo_[0].sensor_direction.size();
@@ -32,6 +35,7 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
         hit_.resize(map.size());
     }
     seabed_range_.assign(static_cast<std::size_t>(std::max(model.colCapacity(), model.cols())), 0.0f);
+    seabed_row_.assign(seabed_range_.size(), -1);
 }
 
 void FlsUpdater::computeSeabedRanges(const Geometry& g, const Eigen::Vector3d& sensor_world, double resolution) {

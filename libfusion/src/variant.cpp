@@ -56,6 +56,7 @@ void applyVariant(Variant v, MapperConfig& cfg) {
             u.ps_carve_noise_sigmas = 0.0;        // Eq. 13 carves up to the selected range
             u.ps_carve_spare_echo_share = 0.0;    // and every voxel on the way
             u.fls_free_space_noise_sigmas = 0.0;
+            u.fls_highlight_above_seabed = false;  // range alone says what the seabed cannot explain
             cfg.ps_selection.weak_echoes_group = false;  // tau alone (paper 2.3)
             u.require_ps_observation = false;
             break;

@@ -299,6 +299,40 @@ TEST(FlsUpdate, VotesNearerThanTheSeabedOnTheirArcAreCountedAboveIt) {
     EXPECT_EQ(fx.map.flsAboveSeabedVotes(near_voxel), 2);
 }
 
+// A low part of an object beside the PS swath returns from no nearer than the
+// seabed could, but as a compact region brighter than the seabed's speckle at
+// that range: its votes count as ones the seabed cannot explain
+// (UpdateConfig::fls_highlight_above_seabed).
+TEST(FlsUpdate, AHighlightBeyondTheSeabedRangeCountsAboveIt) {
+    auto votes = [](bool highlights) {
+        Fixture fx;
+        fx.cfg.fls_once_per_frame = true;
+        fx.cfg.fls_highlight_above_seabed = highlights;
+        FlsUpdater up(fx.model, fx.cfg, fx.map);
+        SeabedFit flat;
+        flat.depth = 4.0;  // the seabed could first return at 5.40 m (previous test)
+        up.setSeabed(flat);
+        auto frame = test::blankFrame(fx.geom, 0);
+        // Water (8) everywhere but seabed speckle from 5.40 to 7.2 m (rows 160..260):
+        // one pixel in eight at 210, the rest at 160; a 6 x 6 patch of 255 at
+        // 5.8 m (rows 232..237).
+        for (int row = 0; row < fx.geom.rows; ++row)
+            for (int col = 0; col < fx.geom.beams; ++col)
+                test::setPixel(frame, row, col,
+                               row < 160 || row > 260 ? 8 : (row * 7 + col * 3) % 8 == 0 ? 210 : 160);
+        for (int row = 232; row < 238; ++row)
+            for (int col = 45; col < 51; ++col) test::setPixel(frame, row, col, 255);
+        (void)up.apply(frame.view, fx.sensor, fx.map);
+        return std::make_pair(fx.map.flsAboveSeabedVotes(fx.expectedVoxel(234, 48, 2)),
+                              fx.map.flsAboveSeabedVotes(fx.expectedVoxel(250, 20, 2)));
+    };
+    const auto on = votes(true), off = votes(false);
+    EXPECT_EQ(on.first, 1) << "the patch";
+    EXPECT_EQ(on.second, 0) << "speckle";
+    EXPECT_EQ(off.first, 0);
+    EXPECT_EQ(off.second, 0);
+}
+
 // --- Where the free space stops (UpdateConfig::fls_free_space_noise_sigmas)
 namespace {
 // Noise of median 10 and MAD 2 (6, 8, 10, 12, 14 equally often): at 4 robust

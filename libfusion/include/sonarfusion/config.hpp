@@ -131,6 +131,17 @@ struct UpdateConfig {
     // log-likelihoods measured against ground truth (sf-fls-evidence +
     // tools/bench/fls_likelihood.py; docs/algorithm.md, "FLS free-space weight").
     double fls_free_vote_ratio = 3.0;
+    // A vote also counts as one the seabed cannot explain (VoxelMap::
+    // flsAboveSeabedVotes) when its pixel is a highlight (fls_highlight.hpp):
+    // bright where the seabed's returns at that range are speckle, in a window
+    // of (2 h + 1)^2 pixels, h = fls_highlight_half_window, holding more bright
+    // pixels than speckle gives with probability fls_highlight_false_alarm. A
+    // low part of an object beside the PS swath returns from no nearer than the
+    // seabed does, but brighter (docs/algorithm.md, "Highlights the seabed
+    // cannot explain"). False: range alone decides.
+    bool fls_highlight_above_seabed = true;
+    int fls_highlight_half_window = 2;
+    double fls_highlight_false_alarm = 1e-6;
     // Report as objects only voxels that a PS ray crossed or ended in.
     bool require_ps_observation = true;
     // PS carving stops at the first bin that could be an echo, not at the

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sonarfusion/config.hpp"
+#include "sonarfusion/fls_highlight.hpp"
 #include "sonarfusion/fls_model.hpp"
 #include "sonarfusion/seabed_fit.hpp"
 #include "sonarfusion/update_sink.hpp"
@@ -128,6 +129,8 @@ private:
     std::vector<uint16_t> hit_;
     std::optional<SeabedFit> seabed_;
     std::vector<float> seabed_range_;               // per column, voxel units (computeSeabedRanges)
+    std::vector<int> seabed_row_;                   // per column: the row of seabed_range_ (FlsHighlight)
+    FlsHighlight highlight_;                        // per frame, with fls_highlight_above_seabed and a seabed
 };
 
 // Template body: the mapper instantiates it with MapWriterSink, the bench with a recorder.
@@ -146,6 +149,25 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     const bool dedupe = cfg_.fls_once_per_frame || cfg_.fls_free_space;
     std::size_t n_touched = 0;
     computeSeabedRanges(g, world_from_sensor.translation(), map.resolution());
+    const bool highlights = cfg_.fls_highlight_above_seabed && seabed_.has_value();
+    if (highlights) {
+        // Per beam, the row where the seabed could first return (rows run from the far end).
+        for (int col = 0; col < frame.cols; ++col) {
+            const float nearest = seabed_range_[static_cast<std::size_t>(col)] * static_cast<float>(map.resolution());
+            int lo = 0, hi = frame.rows - 1, found = -1;
+            while (nearest > 0.0f && lo <= hi) {  // last row whose range is at least `nearest`
+                const int mid = (lo + hi) / 2;
+                if (model.rangeOfRow(mid) >= nearest) {
+                    found = mid;
+                    lo = mid + 1;
+                } else {
+                    hi = mid - 1;
+                }
+            }
+            seabed_row_[static_cast<std::size_t>(col)] = found;
+        }
+        highlight_.compute(frame, cfg_.fls_intensity_threshold, noiseLevel(frame, cfg_.fls_free_space_noise_sigmas > 0.0 ? cfg_.fls_free_space_noise_sigmas : 4.0), seabed_row_.data());
+    }
 
     for (int row = 0; row < frame.rows; ++row) {
         const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
@@ -157,7 +179,8 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             if (intensity <= cfg_.fls_intensity_threshold) continue;  // paper 2.2: > 150 only
             ++st.pixels_above_threshold;
             const Eigen::Vector3f* dir = row_table + static_cast<std::size_t>(col) * n;
-            const bool above_seabed = range < seabed_range_[static_cast<std::size_t>(col)];
+            const bool above_seabed =
+                range < seabed_range_[static_cast<std::size_t>(col)] || (highlights && highlight_.at(row, col));
             const uint16_t above_flag = above_seabed ? kHitAboveSeabed : 0;
             for (int k = 0; k < n; ++k) {
                 const int64_t v = voxelOf(sensor + range * dir[k], nx, ny, nz);  // Eq. 4, in voxel units
