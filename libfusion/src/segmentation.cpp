@@ -424,8 +424,14 @@ void Segmenter::label(const VoxelMap& map) {
             // With fls_only_needs_support, not over a voxel a sensor saw as
             // water (the next layer down, NED i + layer): that vote floats.
             const bool floats = cfg_.fls_only_needs_support && i + layer < map.size() && map.logOdds(i + layer) < 0.0f;
-            if (cfg_.fls_above_seabed_min_votes > 0 && !map.psObserved(i) &&
-                map.flsAboveSeabedVotes(i) >= cfg_.fls_above_seabed_min_votes && !floats) label_[i] = -5;
+            // With low_echoes_seen_above_seabed, so do low voxels holding PS
+            // echoes of their own, too few to confirm them: both sensors saw a
+            // surface there, each below its own bar.
+            const bool seen_above = cfg_.fls_above_seabed_min_votes > 0 &&
+                                    map.flsAboveSeabedVotes(i) >= cfg_.fls_above_seabed_min_votes && !floats;
+            const bool low_echoed = cfg_.low_echoes_seen_above_seabed && map.psEchoCount(i) > 0 &&
+                                    !aboveBaseline(map, i, cfg_.min_object_height);
+            if (seen_above && (!map.psObserved(i) || low_echoed)) label_[i] = -5;
             else if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
             else if (cfg_.fill_below_objects) label_[i] = -4;
             continue;

@@ -673,13 +673,14 @@ namespace {
 // echoed 8 times per voxel across the PS swath (iy 30..69), and on it a block
 // over ix, iy 45..54, occupied from layer 75 down to `block_bottom`, its top
 // layer PS-observed with 8 echoes. `hide_foot`: no seabed echo under the block.
-void buildEchoedBlock(VoxelMap& m, int block_bottom, bool hide_foot) {
+// The PS swath's seabed echoes cover iy 30 .. swath_end - 1.
+void buildEchoedBlock(VoxelMap& m, int block_bottom, bool hide_foot, int swath_end = 70) {
     m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));
     const auto under_block = [](int ix, int iy) { return ix >= 45 && ix < 55 && iy >= 45 && iy < 55; };
     for (int iy = 0; iy < 100; ++iy)
         for (int ix = 0; ix < 100; ++ix) {
             for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-            if (iy >= 30 && iy < 70 && !(hide_foot && under_block(ix, iy)))
+            if (iy >= 30 && iy < swath_end && !(hide_foot && under_block(ix, iy)))
                 for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
         }
     for (int ix = 45; ix < 55; ++ix)
@@ -761,4 +762,40 @@ TEST(SegmentationEchoField, FillBelowPassesThroughWhatNoSensorObservedButNotThro
     old.run(m);
     ASSERT_EQ(old.stats().objects, 1);
     EXPECT_EQ(old.objects()[0].voxel_count, 100 * 2) << "the fill stopped at the first unobserved voxel";
+}
+
+// A low part beside an object at the PS swath's edge (a frame's runner, 0.175 m
+// high): its voxels hold a PS echo each, far below the threshold the object's
+// top sets, and lie in the low band, which joins only from the layer above.
+// Where the FLS also saw something stand above the seabed there (votes the
+// seabed cannot explain), both sensors saw a surface: it joins from the side
+// (segmentation.low_echoes_seen_above_seabed). On the suite's frame: visible
+// recall 0.719 -> 0.808.
+TEST(SegmentationEchoField, ALowPartBothSensorsSawJoinsFromTheSide) {
+    // rule on/off, the runner's own echoes and above-seabed votes -> runner voxels in the object
+    auto runnerVoxelsJoined = [](bool rule, int echoes, int votes) {
+        VoxelMap m{MapConfig{}};
+        // A 0.5 m block, layers 75..79, its top echoed, at the edge of the
+        // swath's seabed echoes (iy < 45).
+        buildEchoedBlock(m, 79, false, 45);
+        for (int ix = 55; ix < 63; ++ix) {  // the runner: layer 79, 0.1 m above the seabed's echoes
+            const std::size_t v = m.linear({ix, 50, 79});
+            m.add(v, 3.0f);
+            m.setFlag(v, VoxelMap::kPsObserved);
+            for (int e = 0; e < echoes; ++e) m.addPsEcho(v);
+            m.setFlsAboveSeabedVotes(v, static_cast<uint8_t>(votes));
+        }
+        SegmentationConfig cfg;  // the defaults: echo height field, relative threshold, fill below
+        cfg.low_echoes_seen_above_seabed = rule;
+        Segmenter seg(cfg, true, m);
+        seg.run(m);
+        EXPECT_EQ(seg.stats().objects, 1);
+        int joined = 0;
+        for (int ix = 55; ix < 63; ++ix) joined += seg.objectLabel(m.linear({ix, 50, 79})) != 0;
+        return joined;
+    };
+    EXPECT_EQ(runnerVoxelsJoined(true, 1, 5), 8);
+    EXPECT_EQ(runnerVoxelsJoined(false, 1, 5), 0) << "the low band joins only from above";
+    EXPECT_EQ(runnerVoxelsJoined(true, 1, 0), 0) << "the PS alone: seabed scatter in the low band";
+    EXPECT_EQ(runnerVoxelsJoined(true, 0, 5), 0) << "the FLS alone, where the PS looked and saw nothing";
 }

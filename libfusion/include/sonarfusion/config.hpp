@@ -262,6 +262,17 @@ struct SegmentationConfig {
     // The one layer: the top surface may reach into the voxel above the
     // highest confirmed one. False: no height limit.
     bool fls_only_not_above_ps_top = true;
+    // A voxel in the low band (above the seabed by less than
+    // min_object_height) that holds PS echoes of its own, too few for the
+    // confirmation threshold, joins an object from any side (never seeds one)
+    // when the FLS voted it with at least fls_above_seabed_min_votes returns the
+    // seabed cannot explain, as an off-swath voxel does: the PS saw a surface at
+    // that height, the FLS saw something stand above the seabed on that bearing.
+    // A low part at the PS swath's edge (a frame's runners, 0.175 m) holds a few
+    // echoes against a threshold its neighbours' set, and joins only from above
+    // otherwise (docs/algorithm.md, "Low parts both sensors saw"). False: it
+    // joins only from the layer above.
+    bool low_echoes_seen_above_seabed = true;
     // Occupied voxels the PS did not confirm join an object when they lie
     // straight below one of its voxels (down to the seabed baseline): the PS
     // looks down at 20-60 deg and never sees under an object's top edge or the
