@@ -166,7 +166,10 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             }
             seabed_row_[static_cast<std::size_t>(col)] = found;
         }
-        highlight_.compute(frame, cfg_.fls_intensity_threshold, noiseLevel(frame, cfg_.fls_free_space_noise_sigmas > 0.0 ? cfg_.fls_free_space_noise_sigmas : 4.0), seabed_row_.data());
+        // Pixels at or below the image's noise returned nothing (water, shadow):
+        // the level the free space uses, 4 robust sigmas when that is off.
+        const double sigmas = cfg_.fls_free_space_noise_sigmas > 0.0 ? cfg_.fls_free_space_noise_sigmas : 4.0;
+        highlight_.compute(frame, cfg_.fls_intensity_threshold, noiseLevel(frame, sigmas), seabed_row_.data());
     }
 
     for (int row = 0; row < frame.rows; ++row) {
