@@ -66,9 +66,14 @@ public:
     // (firstEchoRow): the image's noise level (noiseLevel) with
     // fls_free_space_noise_sigmas > 0, never above the vote threshold.
     [[nodiscard]] static int freeSpaceStopLevel(const FlsFrame& frame, const UpdateConfig& cfg) {
-        return cfg.fls_free_space_noise_sigmas > 0.0
-                   ? std::min(cfg.fls_intensity_threshold, noiseLevel(frame, cfg.fls_free_space_noise_sigmas))
-                   : cfg.fls_intensity_threshold;
+        return freeSpaceStopLevel(
+            cfg.fls_free_space_noise_sigmas > 0.0 ? noiseLevel(frame, cfg.fls_free_space_noise_sigmas) : 255, cfg);
+    }
+    // The same from the image's noise level already taken (noiseLevel at
+    // fls_free_space_noise_sigmas; unused when those are 0).
+    [[nodiscard]] static int freeSpaceStopLevel(int image_noise, const UpdateConfig& cfg) {
+        return cfg.fls_free_space_noise_sigmas > 0.0 ? std::min(cfg.fls_intensity_threshold, image_noise)
+                                                     : cfg.fls_intensity_threshold;
     }
 
     // The frame must already match the model (FlsModel::frameMatches).
@@ -150,6 +155,12 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     std::size_t n_touched = 0;
     computeSeabedRanges(g, world_from_sensor.translation(), map.resolution());
     const bool highlights = cfg_.fls_highlight_above_seabed && seabed_.has_value();
+    // The image's noise level, taken once: the free space stops above it, and
+    // the highlights rank only pixels above it (water and shadow returned
+    // nothing); 4 robust sigmas for the highlights when the free space's are 0.
+    const double noise_sigmas = cfg_.fls_free_space_noise_sigmas > 0.0 ? cfg_.fls_free_space_noise_sigmas : 4.0;
+    const bool needs_noise = highlights || (cfg_.fls_free_space && cfg_.fls_free_space_noise_sigmas > 0.0);
+    const int image_noise = needs_noise ? noiseLevel(frame, noise_sigmas) : 255;
     if (highlights) {
         // Per beam, the row where the seabed could first return (rows run from the far end).
         for (int col = 0; col < frame.cols; ++col) {
@@ -166,10 +177,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             }
             seabed_row_[static_cast<std::size_t>(col)] = found;
         }
-        // Pixels at or below the image's noise returned nothing (water, shadow):
-        // the level the free space uses, 4 robust sigmas when that is off.
-        const double sigmas = cfg_.fls_free_space_noise_sigmas > 0.0 ? cfg_.fls_free_space_noise_sigmas : 4.0;
-        highlight_.compute(frame, cfg_.fls_intensity_threshold, noiseLevel(frame, sigmas), seabed_row_.data());
+        highlight_.compute(frame, cfg_.fls_intensity_threshold, image_noise, seabed_row_.data());
     }
 
     for (int row = 0; row < frame.rows; ++row) {
@@ -223,7 +231,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
         // frame also hit keep only the hit.
         const float margin = std::sqrt(3.0f);
         const float r_min = static_cast<float>(model.rangeOfRow(frame.rows - 1)) * inv_res;
-        const int noise = freeSpaceStopLevel(frame, cfg_);
+        const int noise = freeSpaceStopLevel(image_noise, cfg_);
         for (int col = 0; col < frame.cols; ++col) {
             const int first = firstEchoRow(frame, col, cfg_.fls_intensity_threshold, noise);
             const float r_first =  // no return: all water
