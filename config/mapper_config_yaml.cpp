@@ -83,6 +83,7 @@ DaemonConfig parse(const YAML::Node& root) {
     up.read("fls_free_space", m.update.fls_free_space);
     up.read("fls_free_space_noise_sigmas", m.update.fls_free_space_noise_sigmas);
     up.read("ps_carve_noise_sigmas", m.update.ps_carve_noise_sigmas);
+    up.read("ps_carve_echo_window_voxels", m.update.ps_carve_echo_window_voxels);
     up.read("ps_carve_spare_echo_share", m.update.ps_carve_spare_echo_share);
     up.read("ps_carve_spare_min_echoes", m.update.ps_carve_spare_min_echoes);
     up.read("fls_free_vote_ratio", m.update.fls_free_vote_ratio);

@@ -107,6 +107,8 @@ Check UpdateConfig::validate() const {
         return bad("fls_free_space_noise_sigmas", "must be finite and >= 0 (0: free space up to the first vote)");
     if (!(ps_carve_noise_sigmas >= 0.0) || !finite(ps_carve_noise_sigmas))
         return bad("ps_carve_noise_sigmas", "must be finite and >= 0 (0: carve up to the selected echo)");
+    if (!(ps_carve_echo_window_voxels >= 0.0 && ps_carve_echo_window_voxels <= 100.0))
+        return bad("ps_carve_echo_window_voxels", "must be in [0, 100] (0: no window)");
     if (!(ps_carve_spare_echo_share >= 0.0 && ps_carve_spare_echo_share <= 1.0))
         return bad("ps_carve_spare_echo_share", "must be in [0, 1] (0: every crossed voxel is carved)");
     if (!inRange(ps_carve_spare_min_echoes, 1, VoxelMap::kPsEchoMax))

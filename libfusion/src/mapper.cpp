@@ -383,8 +383,11 @@ Outcome Mapper::addPs(const PsPing& ping) {
         if (!updatable(s)) continue;
         if (!any) {
             group = closestGroup(ping, cfg_.ps_selection);
-            // Carving stops at the first bin that could be an echo (UpdateConfig::ps_carve_noise_sigmas).
-            if (group) carve_range = carveStopRange(ping, *group, cfg_.ps_selection, cfg_.update.ps_carve_noise_sigmas);
+            // Carving stops at the first bin that could be an echo (UpdateConfig::ps_carve_noise_sigmas,
+            // ps_carve_echo_window_voxels).
+            if (group)
+                carve_range = carveStopRange(ping, *group, cfg_.ps_selection, cfg_.update.ps_carve_noise_sigmas,
+                                             cfg_.update.ps_carve_echo_window_voxels * cfg_.map.resolution);
         }
         any = true;
         if (!group || !cfg_.update.ps_carving_enabled) continue;

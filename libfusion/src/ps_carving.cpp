@@ -12,10 +12,15 @@ PsCarver::PsCarver(const PsModel& model, const UpdateConfig& cfg)
       hit_increment_(static_cast<float>(logOddsFromProbability(cfg.p_occupied))) {}
 
 double carveStopRange(const PsPing& ping, const PsEchoGroup& group, const PsSelectionConfig& selection,
-                      double noise_sigmas) {
+                      double noise_sigmas, double echo_window) {
     if (!(noise_sigmas > 0.0)) return -1.0;
     int stop = group.first;
-    const int echo = firstEchoBin(ping, selection, noise_sigmas);
+    int window_bins = 0;
+    if (echo_window > 0.0 && ping.bins > 1) {
+        const double bin = rangeOfBin(ping, 1) - rangeOfBin(ping, 0);
+        window_bins = std::max(2, static_cast<int>(std::lround(echo_window / bin)));
+    }
+    const int echo = firstEchoBin(ping, selection, noise_sigmas, window_bins);
     if (echo >= 0) stop = std::min(stop, echo);
     return stop >= group.peak ? -1.0 : rangeOfBin(ping, stop);
 }

@@ -61,15 +61,29 @@ std::optional<PsEchoGroup> closestGroup(const PsPing& ping, const PsSelectionCon
     return g;
 }
 
-int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas) {
+int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas, int window_bins) {
     if (validatePing(ping) != PsPingError::None) return -1;
     const int b0 = firstUsableBin(ping, cfg);
     if (ping.bins - b0 < 2) return -1;
     IntensityHistogram hist{};
     for (int b = b0; b < ping.bins; ++b) ++hist[ping.intensity[b]];
-    const double level = noiseLevelOf(hist, static_cast<std::size_t>(ping.bins - b0), sigmas);
-    for (int b = b0; b + 1 < ping.bins; ++b)
-        if (ping.intensity[b] > level && ping.intensity[b + 1] > level) return b;
+    const std::size_t samples = static_cast<std::size_t>(ping.bins - b0);
+    const double level = noiseLevelOf(hist, samples, sigmas);
+    // The window's sum must exceed w (median + sigmas * sigma / sqrt(w)): the
+    // mean of w independent noise bins scatters sqrt(w) times less than one
+    // bin. Speckle is correlated over a few bins, so noise alone stops about
+    // one ping in ten early (docs/algorithm.md, "Weak echoes at the fan's edge").
+    const int w = window_bins >= 2 ? window_bins : 0;
+    const double median = noiseLevelOf(hist, samples, 0.0);
+    const double window_need = w > 0 ? w * median + std::sqrt(static_cast<double>(w)) * (level - median) : 0.0;
+    int window_sum = 0;
+    for (int b = b0; b < ping.bins; ++b) {
+        if (b + 1 < ping.bins && ping.intensity[b] > level && ping.intensity[b + 1] > level) return b;
+        if (w == 0) continue;
+        window_sum += ping.intensity[b];
+        if (b - b0 >= w) window_sum -= ping.intensity[b - w];
+        if (b - b0 + 1 >= w && window_sum > window_need) return b - w + 1;
+    }
     return -1;
 }
 

@@ -54,6 +54,7 @@ void applyVariant(Variant v, MapperConfig& cfg) {
             u.fls_free_space = false;
             u.ps_endpoint_hits = false;  // Eq. 13 leaves the end voxel alone
             u.ps_carve_noise_sigmas = 0.0;        // Eq. 13 carves up to the selected range
+            u.ps_carve_echo_window_voxels = 0.0;
             u.ps_carve_spare_echo_share = 0.0;    // and every voxel on the way
             u.fls_free_space_noise_sigmas = 0.0;
             u.fls_highlight_above_seabed = false;  // range alone says what the seabed cannot explain

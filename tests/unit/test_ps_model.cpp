@@ -166,3 +166,32 @@ TEST(PsSelection, CarvingStopsAtTheFirstBinThatCouldBeAnEcho) {
     p.bins[200] = p.bins[201] = 10;
     EXPECT_DOUBLE_EQ(carveStopRange(p.view, *g, cfg, 4.0), rangeOfBin(p.view, 300));
 }
+
+// A surface struck by only a few of the fan's rays (an object at the fan's
+// edge) returns in every bin of its range, each below the per-bin level, while
+// the seabed struck by all of them forms the nearest group: a run of a voxel's
+// length (window) whose mean stands 4 / sqrt(w) robust sigmas above the median
+// stops the carving there (UpdateConfig::ps_carve_echo_window_voxels).
+TEST(PsSelection, CarvingStopsAtARunOfWeakEchoesAVoxelLong) {
+    auto p = test::blankPing(500, 10.0, 0, 0.0);  // 2 cm bins: a 0.1 m voxel is 5 of them
+    // Noise cycling 6 12 8 14 10: median 10, MAD 2, per-bin level 21.9; any 5
+    // consecutive bins sum to 50, and the window needs more than
+    // 5 x 10 + sqrt(5) x 11.9 = 76.5.
+    for (int b = 0; b < 500; ++b) p.bins[b] = static_cast<uint8_t>(6 + 2 * ((b * 3) % 5));
+    for (int b = 200; b < 210; ++b) p.bins[b] = 16;  // below the per-bin level throughout (mean 16 > 15.3)
+    for (int b = 300; b < 306; ++b) p.bins[b] = 120;
+    p.bins[303] = 200;
+    const PsSelectionConfig cfg;
+    const std::optional<PsEchoGroup> g = closestGroup(p.view, cfg);
+    ASSERT_TRUE(g.has_value());
+    EXPECT_EQ(firstEchoBin(p.view, cfg, 4.0), 300) << "no pair above the per-bin level before the group";
+    EXPECT_EQ(firstEchoBin(p.view, cfg, 4.0, 5), 200);
+    const double bin = rangeOfBin(p.view, 1) - rangeOfBin(p.view, 0);
+    EXPECT_DOUBLE_EQ(carveStopRange(p.view, *g, cfg, 4.0, 5 * bin), rangeOfBin(p.view, 200));
+    EXPECT_DOUBLE_EQ(carveStopRange(p.view, *g, cfg, 4.0), rangeOfBin(p.view, 300)) << "no window: the group";
+    EXPECT_LT(carveStopRange(p.view, *g, cfg, 0.0, 5 * bin), 0.0) << "0 sigmas: carve up to the selected echo";
+    // Too weak for the window (mean 14 < 15.3): the carving runs on to the group.
+    for (int b = 200; b < 210; ++b) p.bins[b] = 14;
+    EXPECT_EQ(firstEchoBin(p.view, cfg, 4.0, 5), 300);
+    EXPECT_DOUBLE_EQ(carveStopRange(p.view, *g, cfg, 4.0, 5 * bin), rangeOfBin(p.view, 300));
+}

@@ -16,12 +16,17 @@ it prints, per k:
        --fls-rows rows before the first vote.
 
 Any such stop there is noise. The smallest k with none is the one to use.
+With --ps-window n the PS stop also takes the first run of n bins whose mean
+stands k / sqrt(n) robust sigmas above the median (update.ps_carve_echo_window_voxels;
+docs/algorithm.md, "Weak echoes at the fan's edge"): the share it prints is
+then the price of that window on object-free seabed.
 
     tools/bench/echo_noise_stops.py build/tests/suite/seabed_flat_long_no_object/run.lcmlog
 
 Standard library only (reads the log with tools/sfbag, which needs lcm-gen).
 """
 import argparse
+import math
 import os
 import sys
 
@@ -58,11 +63,31 @@ def first_pair_above(seq, lvl):
     return None
 
 
+def first_window_above(seq, lvl, med, w):
+    """First of w consecutive values whose mean stands (lvl - med) / sqrt(w) above med, or of a pair above lvl."""
+    need = w * med + math.sqrt(w) * (lvl - med)
+    total = 0
+    for i, v in enumerate(seq):
+        if i + 1 < len(seq) and v > lvl and seq[i + 1] > lvl:
+            return i
+        if w < 2:
+            continue
+        total += v
+        if i >= w:
+            total -= seq[i - w]
+        if i + 1 >= w and total > need:
+            return i - w + 1
+    return None
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("logs", nargs="+")
     ap.add_argument("--sigmas", default="2,2.5,3,4,6")
     ap.add_argument("--ps-bins", type=int, default=10)
+    ap.add_argument("--ps-window", type=int, default=0,
+                    help="also stop at the first run of this many bins whose mean stands k / sqrt(n) sigmas "
+                         "above the median (update.ps_carve_echo_window_voxels: a voxel's length in bins, 5)")
     ap.add_argument("--fls-rows", type=int, default=5)
     ap.add_argument("--every", type=int, default=5, help="use every n-th ping and every 2n-th frame")
     a = ap.parse_args()
@@ -91,8 +116,9 @@ def main():
                 thr = min(0.7 * peak, 40)
                 group = next(i for i, v in enumerate(vals) if v > thr)
                 ps_n += 1
+                med = level(vals, 0.0)
                 for k in ks:
-                    stop = first_pair_above(vals, level(vals, k))
+                    stop = first_window_above(vals, level(vals, k), med, a.ps_window)
                     if stop is not None and stop < group - a.ps_bins:
                         ps_early[k] += 1
             elif channel == "FLS":

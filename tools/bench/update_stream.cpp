@@ -208,7 +208,8 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             m.head_angle = p.head_angle;
             m.range = rangeOfBin(ping, group->peak);  // Used implies a bin was selected
             m.echo_strength = ping.intensity[group->peak] / 255.0;
-            m.carve_range = carveStopRange(ping, *group, cfg.ps_selection, cfg.update.ps_carve_noise_sigmas);
+            m.carve_range = carveStopRange(ping, *group, cfg.ps_selection, cfg.update.ps_carve_noise_sigmas,
+                                           cfg.update.ps_carve_echo_window_voxels * cfg.map.resolution);
             m.ray_begin = static_cast<uint32_t>(s.rays.size());
             StreamSink sink(s, false, counts);
             ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, counts, sink, m.echo_strength,

@@ -155,6 +155,15 @@ struct UpdateConfig {
     // (docs/algorithm.md, "Carving stops at the first echo"). 0: carve up to
     // the selected echo (the paper, Eq. 13).
     double ps_carve_noise_sigmas = 4.0;
+    // And at the first run of bins one voxel (this many voxels) of range long
+    // whose mean stands ps_carve_noise_sigmas / sqrt(bins in the run) robust
+    // sigmas above the median: a surface struck by only a few of the fan's
+    // rays (an object at the fan's edge) returns in every bin of its range
+    // below the per-bin level, while the seabed, struck by all of them, forms
+    // the nearest group; carried on to that group, the edge rays carve through
+    // the object (docs/algorithm.md, "Weak echoes at the fan's edge"). 0: the
+    // per-bin pair only. Unused when ps_carve_noise_sigmas is 0.
+    double ps_carve_echo_window_voxels = 1.0;
     // A PS ray does not carve a voxel in which PS echoes ended for at least
     // this share of the PS rays that reached it so far (ended in it or crossed
     // it), and for at least ps_carve_spare_min_echoes rays. Echoes say a

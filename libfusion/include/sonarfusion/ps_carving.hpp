@@ -23,11 +23,12 @@ struct PsCarveStats {
 };
 
 // Where a ping's carving stops: the nearer of its nearest group's first bin
-// and its first bin that could be an echo (firstEchoBin with `noise_sigmas`);
+// and its first bin that could be an echo (firstEchoBin with `noise_sigmas`,
+// and a window of `echo_window` m of range, at least 2 bins, when > 0);
 // negative (carve up to the selected echo) when that is the echo's own bin or
-// noise_sigmas is 0 (UpdateConfig::ps_carve_noise_sigmas).
+// noise_sigmas is 0 (UpdateConfig::ps_carve_noise_sigmas, ps_carve_echo_window_voxels).
 [[nodiscard]] double carveStopRange(const PsPing& ping, const PsEchoGroup& group, const PsSelectionConfig& selection,
-                                    double noise_sigmas);
+                                    double noise_sigmas, double echo_window = 0.0);
 
 // UpdateConfig::ps_carve_spare_echo_share: whether a ray spares (does not carve)
 // a voxel where `echoes` PS echoes ended and `crossings` rays crossed it so far:

@@ -44,8 +44,12 @@ struct PsEchoGroup {
 
 // The nearest bin (beyond cfg.min_range) that could be an echo: it and the next
 // one stand `sigmas` robust standard deviations (1.4826 x MAD) above the
-// ping's median, which is its noise (most bins of a ping are water). -1: none.
-[[nodiscard]] int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas);
+// ping's median, which is its noise (most bins of a ping are water); or, with
+// window_bins >= 2, the first of window_bins consecutive bins whose mean
+// stands sigmas / sqrt(window_bins) robust standard deviations above it (an
+// echo too weak per bin, as long as the window: a surface in a few rays of
+// the fan). -1: none.
+[[nodiscard]] int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas, int window_bins = 0);
 
 // Paper 2.1: the plain maximum-intensity bin (object detection uses this).
 [[nodiscard]] std::optional<int> maxIntensityBin(const PsPing& ping, const PsSelectionConfig& cfg);
