@@ -18,7 +18,9 @@ double carveStopRange(const PsPing& ping, const PsEchoGroup& group, const PsSele
     int window_bins = 0;
     if (echo_window > 0.0 && ping.bins > 1) {
         const double bin = rangeOfBin(ping, 1) - rangeOfBin(ping, 0);
-        window_bins = std::max(2, static_cast<int>(std::lround(echo_window / bin)));
+        // Bins at most the ping long (a window longer than the ping finds nothing).
+        if (bin > 0.0)
+            window_bins = static_cast<int>(std::clamp(std::round(echo_window / bin), 2.0, static_cast<double>(ping.bins)));
     }
     const int echo = firstEchoBin(ping, selection, noise_sigmas, window_bins);
     if (echo >= 0) stop = std::min(stop, echo);
