@@ -146,6 +146,8 @@ Check SegmentationConfig::validate() const {
     if (!(baseline_window > 0.0) || !finite(baseline_window)) return bad("baseline_window", "must be finite and > 0");
     if (!(min_object_height >= 0.0) || !finite(min_object_height))
         return bad("min_object_height", "must be finite and >= 0");
+    if (!(seabed_raised_sigmas >= 0.0) || !finite(seabed_raised_sigmas))
+        return bad("seabed_raised_sigmas", "must be finite and >= 0 (0: min_object_height only)");
     if (min_object_voxels < 1) return bad("min_object_voxels", "must be >= 1");
     if (!inRange(max_objects, 1, 65535)) return bad("max_objects", range(1, 65535));
     if (!inRange(fls_only_extension, 0, 255)) return bad("fls_only_extension", range(0, 255));  // steps in a byte

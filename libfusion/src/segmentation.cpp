@@ -35,6 +35,7 @@ Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation,
         eroded_.assign(cols, kNaN);
         scratch_.assign(cols, kNaN);
     }
+    if (cfg.seabed_from_ps_echoes && cfg.seabed_raised_sigmas > 0.0) residual_.assign(cols, 0.0);
     objects_.reserve(cfg.max_objects);
 }
 
@@ -64,8 +65,27 @@ void Segmenter::columnSurfaces(const VoxelMap& map) {
 // object height (so an object does not lift the seabed under itself).
 bool Segmenter::usableSurface(std::size_t col, bool exclude_raised) const {
     const double s = surface_[col];
-    return !std::isnan(s) &&
-           !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - cfg_.min_object_height);
+    return !std::isnan(s) && !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - raised_threshold_);
+}
+
+// The columns' echo heights scatter about the seabed by its relief and the
+// height field's voxel steps; a column standing out of that scatter holds an
+// object's echoes, if only some of them. Robust: the objects' own columns are
+// outliers of the residuals, not part of their spread.
+double Segmenter::raisedColumnThreshold(double resolution) {
+    if (!(cfg_.seabed_raised_sigmas > 0.0)) return cfg_.min_object_height;
+    std::size_t n = 0;
+    for (std::size_t col = 0; col < surface_.size(); ++col)
+        if (!std::isnan(surface_[col]) && !std::isnan(baseline_[col])) residual_[n++] = surface_[col] - baseline_[col];
+    if (n < 3) return cfg_.min_object_height;
+    const auto begin = residual_.begin(), end = residual_.begin() + static_cast<std::ptrdiff_t>(n);
+    const auto mid = begin + static_cast<std::ptrdiff_t>(n / 2);
+    std::nth_element(begin, mid, end);
+    const double median = *mid;
+    for (auto it = begin; it != end; ++it) *it = std::abs(*it - median);
+    std::nth_element(begin, mid, end);
+    const double sigma = 1.4826 * *mid;
+    return std::min(cfg_.min_object_height, std::max(0.5 * resolution, cfg_.seabed_raised_sigmas * sigma));
 }
 
 // Per column, the mean height of the PS echoes that ended in it (each voxel
@@ -540,10 +560,20 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
         // on one side only (a single pass; the seabed behind it in its shadow)
         // and keeps it there through every later pass (survey_field's box:
         // its middle 0.8 m fell below such a baseline).
-        if (cfg_.seabed_from_lower_envelope) lowerEnvelope(map);
+        // Each fit leaves out what stands out of the residuals' own scatter
+        // about the previous one (seabed_raised_sigmas), never more than
+        // min_object_height above it.
+        if (cfg_.seabed_from_lower_envelope) {
+            lowerEnvelope(map);
+            raised_threshold_ = raisedColumnThreshold(map.resolution());
+        }
         fitBaselinePlanes(map, cfg_.seabed_from_lower_envelope);
-        for (int pass = 0; pass < 3; ++pass) fitBaselinePlanes(map, true);
+        for (int pass = 0; pass < 3; ++pass) {
+            raised_threshold_ = raisedColumnThreshold(map.resolution());
+            fitBaselinePlanes(map, true);
+        }
     } else {
+        raised_threshold_ = cfg_.min_object_height;
         columnSurfaces(map);  // no PS echo (fls_only): the occupied surface
         smoothBaseline(map, false);
         smoothBaseline(map, true);

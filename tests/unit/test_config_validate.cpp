@@ -53,6 +53,8 @@ const BadValue kBadValues[] = {
      "update.fls_free_space_noise_sigmas"},
     {"Update_ps_noise_sigmas_nan", [](MapperConfig& c) { c.update.ps_carve_noise_sigmas = NAN; },
      "update.ps_carve_noise_sigmas"},
+    {"Segmentation_raised_sigmas_nan", [](MapperConfig& c) { c.segmentation.seabed_raised_sigmas = NAN; },
+     "segmentation.seabed_raised_sigmas"},
     {"Update_ps_echo_window_negative", [](MapperConfig& c) { c.update.ps_carve_echo_window_voxels = -1.0; },
      "update.ps_carve_echo_window_voxels"},
     {"Update_spare_share_above_one", [](MapperConfig& c) { c.update.ps_carve_spare_echo_share = 1.5; },

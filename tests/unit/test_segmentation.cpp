@@ -482,6 +482,50 @@ TEST(SegmentationEchoField, SeabedHeightIsTheMeanOfItsEchoVoxelCentres) {
     EXPECT_NEAR(old.objects()[0].bbox_max.z(), 15.0 + 8.0, 1e-6) << "with top faces the bottom layer was lost";
 }
 
+// Columns whose PS echoes mix a low object's top with the seabed (the fan
+// places an echo on every bearing at the object's range) stand a few cm up:
+// here 0.0875 m, under the 0.15 m object height, over a 3 x 2 m band around a
+// 0.2 m bar. Fitted with them, the seabed rose 0.06 m under the bar, its top
+// layer fell into the low band and nothing seeded it (the suite's frame of
+// 0.175 m runners, docs/algorithm.md). A column that stands out of the
+// columns' own scatter (3 robust sigmas, at least half a voxel) is left out
+// of the next fit (seabed_raised_sigmas).
+TEST(SegmentationEchoField, ColumnsMixingALowObjectsEchoesDoNotLiftTheSeabed) {
+    VoxelMap m{MapConfig{}};
+    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // origin z 15: layer k spans 15 + 0.1 k .. + 0.1
+    const auto bar = [](int ix, int iy) { return ix >= 45 && ix <= 55 && iy >= 49 && iy <= 51; };
+    const auto band = [](int ix, int iy) { return ix >= 35 && ix <= 65 && iy >= 40 && iy <= 60; };
+    for (int iy = 0; iy < 100; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            if (iy < 30 || iy >= 70 || bar(ix, iy)) continue;  // the PS swath
+            if (band(ix, iy)) {  // seven echoes at the bar's height, one on the seabed: 0.0875 m up
+                for (int e = 0; e < 7; ++e) m.addPsEcho(m.linear({ix, iy, 79}));
+                m.addPsEcho(m.linear({ix, iy, 80}));
+            } else {
+                for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
+            }
+        }
+    for (int ix = 45; ix <= 55; ++ix)  // the bar: layers 78..79, echoes on its top
+        for (int iy = 49; iy <= 51; ++iy) {
+            for (int iz = 78; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            for (int e = 0; e < 12; ++e) m.addPsEcho(m.linear({ix, iy, 78}));
+        }
+    Segmenter seg(SegmentationConfig{}, true, m);
+    seg.run(m);
+    EXPECT_NEAR(seg.seabedDepth(50, 50), 23.05, 0.005) << "the seabed under the bar, from the seabed around the band";
+    ASSERT_EQ(seg.stats().objects, 1);
+    EXPECT_NEAR(seg.objects()[0].bbox_min.z(), 15.0 + 7.8, 1e-6);
+    EXPECT_GE(seg.objects()[0].voxel_count, 11 * 3 * 2);
+
+    SegmentationConfig height_only;
+    height_only.seabed_raised_sigmas = 0.0;  // raised only beyond min_object_height
+    Segmenter old(height_only, true, m);
+    old.run(m);
+    EXPECT_LT(old.seabedDepth(50, 50), 23.05 - 0.03) << "the band lifts the plane";
+    EXPECT_EQ(old.stats().objects, 0) << "the bar's top layer lies in the low band: nothing seeds it";
+}
+
 // The voxel the seabed surface runs through is an object's base under its
 // footprint wherever in that voxel the surface lies. Here the echoes put the
 // seabed at 23.025 m, in the upper half of layer 80 (23.0-23.1 m): an object

@@ -304,6 +304,16 @@ struct SegmentationConfig {
     // mean of its echo voxels' centres (where the echoes were, to within a
     // voxel), not of their top faces (half a voxel shallower).
     bool seabed_at_echo_centres = true;
+    // With seabed_from_ps_echoes: before each refit, a column counts as raised
+    // (left out of the seabed fit) when its echo height stands above the
+    // previous fit by more than this many robust standard deviations (1.4826 x
+    // MAD) of all columns' residuals, at least half a voxel (the height field's
+    // step) and at most min_object_height. Columns whose echoes mix an object's
+    // top with the seabed stand a few cm up; beside low objects (the frame's
+    // 0.175 m runners) they lifted the plane by 0.1 m and the objects' lower
+    // layers fell below it (docs/algorithm.md, "The seabed fit leaves out what
+    // stands out of its own scatter"). 0: min_object_height only.
+    double seabed_raised_sigmas = 3.0;
     // PS confirmation (docs/design.md, "Completion and segmentation"), where the variant requires it: a voxel is
     // confirmed when a PS echo (the end point of Eq. 11) fell within this many
     // voxels of it (Chebyshev distance). A ray that merely crosses a voxel is

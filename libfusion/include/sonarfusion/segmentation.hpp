@@ -61,6 +61,9 @@ private:
     void columnSurfaces(const VoxelMap& map);
     void echoSurfaces(const VoxelMap& map);
     [[nodiscard]] bool usableSurface(std::size_t col, bool exclude_raised) const;
+    // The rise above the current baseline beyond which a column is left out of
+    // the next fit (SegmentationConfig::seabed_raised_sigmas).
+    [[nodiscard]] double raisedColumnThreshold(double resolution);
     void fitBaselinePlanes(const VoxelMap& map, bool exclude_raised);
     void lowerEnvelope(const VoxelMap& map);
     void smoothBaseline(const VoxelMap& map, bool exclude_raised);
@@ -86,6 +89,8 @@ private:
     std::vector<double> sat_sum_, sat_cnt_;  // summed-area tables, (nx+1)*(ny+1)
     std::vector<double> sat_plane_;          // 9 summed-area tables for local plane fits
     std::vector<double> eroded_, scratch_;   // per column, for the lower envelope
+    std::vector<double> residual_;           // per column, for the residuals' scatter
+    double raised_threshold_ = 0.0;          // m: usableSurface's rise limit in this pass
     std::vector<ObjectInfo> objects_;    // capacity max_objects
     SegmentationStats stats_;
     Eigen::Vector2d along_track_ = Eigen::Vector2d::Zero();  // unit (north, east), or zero
