@@ -61,8 +61,9 @@ void Segmenter::columnSurfaces(const VoxelMap& map) {
 }
 
 // A column's surface enters the seabed fit when it is known and, with
-// exclude_raised, does not stand above the previous baseline by more than the
-// object height (so an object does not lift the seabed under itself).
+// exclude_raised, does not stand above the previous baseline by more than this
+// pass's limit (raisedColumnThreshold; the object height at most), so an
+// object does not lift the seabed under itself.
 bool Segmenter::usableSurface(std::size_t col, bool exclude_raised) const {
     const double s = surface_[col];
     return !std::isnan(s) && !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - raised_threshold_);
