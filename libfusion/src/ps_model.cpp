@@ -74,8 +74,11 @@ int firstEchoBin(const PsPing& ping, const PsSelectionConfig& cfg, double sigmas
     // bin. Speckle is correlated over a few bins, so noise alone stops about
     // one ping in ten early (docs/algorithm.md, "Weak echoes at the fan's edge").
     const int w = window_bins >= 2 ? window_bins : 0;
-    const double median = noiseLevelOf(hist, samples, 0.0);
-    const double window_need = w > 0 ? w * median + std::sqrt(static_cast<double>(w)) * (level - median) : 0.0;
+    double window_need = 0.0;
+    if (w > 0) {
+        const double median = noiseLevelOf(hist, samples, 0.0);  // the level at 0 sigmas
+        window_need = w * median + std::sqrt(static_cast<double>(w)) * (level - median);
+    }
     int window_sum = 0;
     for (int b = b0; b < ping.bins; ++b) {
         if (b + 1 < ping.bins && ping.intensity[b] > level && ping.intensity[b + 1] > level) return b;

@@ -12,6 +12,7 @@ namespace sonarfusion {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoRaiseLimit = std::numeric_limits<double>::infinity();  // usableSurface: keep every column
 }
 
 Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation, const VoxelMap& map)
@@ -60,13 +61,12 @@ void Segmenter::columnSurfaces(const VoxelMap& map) {
     }
 }
 
-// A column's surface enters the seabed fit when it is known and, with
-// exclude_raised, does not stand above the previous baseline by more than this
-// pass's limit (raisedColumnThreshold; the object height at most), so an
-// object does not lift the seabed under itself.
-bool Segmenter::usableSurface(std::size_t col, bool exclude_raised) const {
+// A column's surface enters the seabed fit when it is known and does not
+// stand above the previous baseline by more than raise_limit (m; kNoRaiseLimit
+// keeps every column), so an object does not lift the seabed under itself.
+bool Segmenter::usableSurface(std::size_t col, double raise_limit) const {
     const double s = surface_[col];
-    return !std::isnan(s) && !(exclude_raised && !std::isnan(baseline_[col]) && s < baseline_[col] - raised_threshold_);
+    return !std::isnan(s) && !(!std::isnan(baseline_[col]) && s < baseline_[col] - raise_limit);
 }
 
 // The columns' echo heights scatter about the seabed by its relief and the
@@ -158,10 +158,9 @@ void Segmenter::lowerEnvelope(const VoxelMap& map) {
 // The seabed under each column: a plane fitted by least squares to the column
 // surfaces in the square window around it (nine summed-area tables keep it
 // O(columns)), evaluated at the column. A plane follows a slope, which a
-// moving average only does where the window is full. With exclude_raised,
-// columns standing above the previous baseline by more than the object height
-// are left out, so an object does not lift the seabed under itself.
-void Segmenter::fitBaselinePlanes(const VoxelMap& map, bool exclude_raised) {
+// moving average only does where the window is full. Columns standing above
+// the previous baseline by more than raise_limit are left out (usableSurface).
+void Segmenter::fitBaselinePlanes(const VoxelMap& map, double raise_limit) {
     const int half = std::max(1, static_cast<int>(std::lround(0.5 * cfg_.baseline_window / map.resolution())));
     const int w = nx_ + 1;
     const std::size_t plane = static_cast<std::size_t>(w) * (ny_ + 1);
@@ -172,7 +171,7 @@ void Segmenter::fitBaselinePlanes(const VoxelMap& map, bool exclude_raised) {
         for (int ix = 0; ix < nx_; ++ix) {
             const std::size_t col = static_cast<std::size_t>(iy) * nx_ + ix;
             const double s = surface_[col];
-            const bool use = usableSurface(col, exclude_raised);
+            const bool use = usableSurface(col, raise_limit);
             if (use) {
                 const double x = ix, y = iy;
                 const double v[9] = {1.0, x, y, s, x * x, x * y, y * y, x * s, y * s};
@@ -213,13 +212,12 @@ void Segmenter::fitBaselinePlanes(const VoxelMap& map, bool exclude_raised) {
 }
 
 // Moving average of the column surfaces over a square window (summed-area
-// tables keep it O(columns)). With exclude_raised, columns standing above the
-// previous baseline by more than the object height are left out, so an object
-// does not lift the seabed under itself.
-void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
+// tables keep it O(columns)). Columns standing above the previous baseline by
+// more than raise_limit are left out (usableSurface).
+void Segmenter::smoothBaseline(const VoxelMap& map, double raise_limit) {
     const int half = std::max(1, static_cast<int>(std::lround(0.5 * cfg_.baseline_window / map.resolution())));
     if (cfg_.baseline_along_track && along_track_.squaredNorm() > 0.0) {
-        smoothBaselineAlongTrack(half, exclude_raised);
+        smoothBaselineAlongTrack(half, raise_limit);
         return;
     }
     const int w = nx_ + 1;
@@ -229,7 +227,7 @@ void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
         for (int ix = 0; ix < nx_; ++ix) {
             const std::size_t col = static_cast<std::size_t>(iy) * nx_ + ix;
             const double s = surface_[col];
-            const bool use = usableSurface(col, exclude_raised);
+            const bool use = usableSurface(col, raise_limit);
             if (use) {
                 row_sum += s;
                 row_cnt += 1.0;
@@ -257,13 +255,13 @@ void Segmenter::smoothBaseline(const VoxelMap& map, bool exclude_raised) {
 // (FLS elevation arcs the PS seldom carves), so averaging across the track mixes
 // two different apparent seabeds; along the track the apparent seabed of one
 // lateral offset is averaged with itself.
-void Segmenter::smoothBaselineAlongTrack(int half, bool exclude_raised) {
+void Segmenter::smoothBaselineAlongTrack(int half, double raise_limit) {
     // Stage the usable column surfaces (NaN: not used) in sat_sum_, which holds
     // at least one slot per column.
     double total_sum = 0.0, total_cnt = 0.0;
     for (std::size_t col = 0; col < surface_.size(); ++col) {
         const double s = surface_[col];
-        const bool use = usableSurface(col, exclude_raised);
+        const bool use = usableSurface(col, raise_limit);
         sat_sum_[col] = use ? s : kNaN;
         if (use) {
             total_sum += s;
@@ -564,20 +562,17 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
         // Each fit leaves out what stands out of the residuals' own scatter
         // about the previous one (seabed_raised_sigmas), never more than
         // min_object_height above it.
+        double limit = kNoRaiseLimit;
         if (cfg_.seabed_from_lower_envelope) {
             lowerEnvelope(map);
-            raised_threshold_ = raisedColumnThreshold(map.resolution());
+            limit = raisedColumnThreshold(map.resolution());
         }
-        fitBaselinePlanes(map, cfg_.seabed_from_lower_envelope);
-        for (int pass = 0; pass < 3; ++pass) {
-            raised_threshold_ = raisedColumnThreshold(map.resolution());
-            fitBaselinePlanes(map, true);
-        }
+        fitBaselinePlanes(map, limit);
+        for (int pass = 0; pass < 3; ++pass) fitBaselinePlanes(map, raisedColumnThreshold(map.resolution()));
     } else {
-        raised_threshold_ = cfg_.min_object_height;
         columnSurfaces(map);  // no PS echo (fls_only): the occupied surface
-        smoothBaseline(map, false);
-        smoothBaseline(map, true);
+        smoothBaseline(map, kNoRaiseLimit);
+        smoothBaseline(map, cfg_.min_object_height);
     }
     baseline_at_echo_centres_ = from_echoes && cfg_.seabed_at_echo_centres;
     if (!confirmed_.empty()) markConfirmed(map);

@@ -60,14 +60,14 @@ public:
 private:
     void columnSurfaces(const VoxelMap& map);
     void echoSurfaces(const VoxelMap& map);
-    [[nodiscard]] bool usableSurface(std::size_t col, bool exclude_raised) const;
+    [[nodiscard]] bool usableSurface(std::size_t col, double raise_limit) const;
     // The rise above the current baseline beyond which a column is left out of
-    // the next fit (SegmentationConfig::seabed_raised_sigmas).
+    // the next fit (SegmentationConfig::seabed_raised_sigmas; at most min_object_height).
     [[nodiscard]] double raisedColumnThreshold(double resolution);
-    void fitBaselinePlanes(const VoxelMap& map, bool exclude_raised);
+    void fitBaselinePlanes(const VoxelMap& map, double raise_limit);
     void lowerEnvelope(const VoxelMap& map);
-    void smoothBaseline(const VoxelMap& map, bool exclude_raised);
-    void smoothBaselineAlongTrack(int half, bool exclude_raised);
+    void smoothBaseline(const VoxelMap& map, double raise_limit);
+    void smoothBaselineAlongTrack(int half, double raise_limit);
     [[nodiscard]] bool aboveBaseline(const VoxelMap& map, std::size_t voxel, double margin) const;
     void markConfirmed(const VoxelMap& map);
     void dropWaterAboveEchoes(const VoxelMap& map);
@@ -90,7 +90,6 @@ private:
     std::vector<double> sat_plane_;          // 9 summed-area tables for local plane fits
     std::vector<double> eroded_, scratch_;   // per column, for the lower envelope
     std::vector<double> residual_;           // per column, for the residuals' scatter
-    double raised_threshold_ = 0.0;          // m: usableSurface's rise limit in this pass
     std::vector<ObjectInfo> objects_;    // capacity max_objects
     SegmentationStats stats_;
     Eigen::Vector2d along_track_ = Eigen::Vector2d::Zero();  // unit (north, east), or zero
