@@ -347,10 +347,19 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     }
     fls_updater_.select(geometry);
     // The seabed the FLS judges its returns against: the detector's plane
-    // around its newest PS echo. The PS looks down at about the FLS's tilt, so
-    // that is about where the FLS boresight meets the seabed; the plane's
-    // gradient carries it across the fan.
-    fls_updater_.setSeabed(detector_.seabedAtNewestEcho());
+    // where the FLS boresight meets the seabed (UpdateConfig::
+    // fls_seabed_at_footprint); the plane's gradient carries it across the fan.
+    if (cfg_.update.fls_seabed_at_footprint) {
+        const FlsModel& model = flsGeometryModel(geometry);
+        const double elevation = 0.5 * (model.elevationMin() + model.elevationMax());
+        const int right = model.cols() / 2, left = std::max(0, model.cols() - 1 - right);
+        const Eigen::Vector3d boresight =
+            world_from_sensor.linear() *
+            (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
+        fls_updater_.setSeabed(detector_.seabedAlongRay(world_from_sensor.translation(), boresight));
+    } else {
+        fls_updater_.setSeabed(detector_.seabedAtNewestEcho());
+    }
     for (int s = 0; s < slotCount(); ++s) {
         if (!updatable(s)) continue;
         if (!reaches(s, world_from_sensor.translation(), range_max)) continue;

@@ -51,16 +51,34 @@ const std::optional<SeabedFit>& ObjectDetector::seabedAtNewestEcho() const {
 // strongest echoes, and the residuals below the plane alone understate it.
 // min_seabed_echoes (more than one head sweep) keeps a first sweep that is
 // mostly object from being judged alone.
-std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool reject_outliers) const {
+std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim trim) const {
     const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
+    const bool lower = trim == Trim::LowerEnvelope;
+    // LowerEnvelope starts from the echoes no shallower than their median
+    // depth: a level cut, which a plane tilted onto an object on one side
+    // cannot fool (a first pass: seabed behind, object ahead).
+    double median_depth = 0.0;
+    if (lower) {
+        int m = 0;
+        for (int i = 0; i < seabed_count_; ++i)
+            if ((seabed_[i].head<2>() - xy).squaredNorm() <= r2) residual_[m++] = seabed_[i].z();
+        if (m < cfg_.min_seabed_echoes) return std::nullopt;
+        std::nth_element(residual_.begin(), residual_.begin() + m / 2, residual_.begin() + m);
+        median_depth = residual_[m / 2];
+    }
     SeabedFit f;
-    const int passes = reject_outliers ? 4 : 1;
+    const int passes = lower ? 6 : 4;
     for (int pass = 0; pass < passes; ++pass) {
         const SeabedFit prev = f;
         auto use = [&](const Eigen::Vector3d& p) {
             if ((p.head<2>() - xy).squaredNorm() > r2) return false;
             if (pass == 0) return true;
             const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
+            if (lower) {
+                if (pass == 1) return p.z() >= median_depth;
+                if (pass == 2) return residual >= 0.0;  // then the lower half about that plane
+                return std::fabs(residual) <= 3.0 * prev.rms;
+            }
             return pass < passes - 1 ? residual >= -prev.rms : std::fabs(residual) <= 3.0 * prev.rms;
         };
         Eigen::Vector2d sum_xy = Eigen::Vector2d::Zero();
@@ -72,7 +90,14 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool rej
                 sum_z += seabed_[i].z();
                 ++n;
             }
-        if (n < cfg_.min_seabed_echoes) return pass == 0 ? std::nullopt : std::optional<SeabedFit>(prev);
+        if (lower && pass > 0) {
+            // Two halvings keep a quarter of a clean seabed; fewer, and what is
+            // left is not the seabed's to judge by (the first plane, all echoes
+            // included, is what this trim exists to avoid).
+            if (n < std::max(3, cfg_.min_seabed_echoes / 4)) return std::nullopt;
+        } else if (n < cfg_.min_seabed_echoes) {
+            return pass == 0 ? std::nullopt : std::optional<SeabedFit>(prev);
+        }
         const Eigen::Vector2d c = sum_xy / n;
         const double zc = sum_z / n;
         Eigen::Matrix2d a = Eigen::Matrix2d::Identity() * (1e-3 * n);  // ridge: (3 cm)^2 per echo
@@ -97,7 +122,23 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, bool rej
     return f;
 }
 
-std::optional<SeabedFit> ObjectDetector::seabedAt(const Eigen::Vector2d& xy) const { return fit(xy, true); }
+std::optional<SeabedFit> ObjectDetector::seabedAt(const Eigen::Vector2d& xy) const { return fit(xy, Trim::Rise); }
+
+std::optional<SeabedFit> ObjectDetector::seabedAlongRay(const Eigen::Vector3d& origin,
+                                                        const Eigen::Vector3d& direction) const {
+    if (seabed_count_ == 0) return std::nullopt;
+    std::optional<SeabedFit> placing = fit(last_xy_, Trim::LowerEnvelope);
+    if (!placing) placing = fit(origin.head<2>(), Trim::LowerEnvelope);
+    if (!placing) return std::nullopt;
+    // NED: the ray nears the plane z = depthAt(xy) when its z grows faster than
+    // the plane's depth along its horizontal heading.
+    const double descent = direction.z() - placing->gradient.dot(direction.head<2>());
+    const double depth_below = placing->depthAt(origin.head<2>()) - origin.z();
+    if (!(descent > 1e-6) || !(depth_below > 0.0)) return placing;
+    const Eigen::Vector2d xy = origin.head<2>() + (depth_below / descent) * direction.head<2>();
+    std::optional<SeabedFit> there = fit(xy, Trim::LowerEnvelope);
+    return there ? there : placing;
+}
 
 std::optional<double> ObjectDetector::baseline() const {
     const std::optional<SeabedFit> f = seabedAt(last_xy_);

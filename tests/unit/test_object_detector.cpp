@@ -137,3 +137,62 @@ TEST(ObjectDetector, TheSeabedAtTheNewestEchoFollowsEveryEchoAndSurvivesACheckpo
     det.reset();
     EXPECT_FALSE(det.seabedAtNewestEcho().has_value());
 }
+
+// UpdateConfig::fls_seabed_at_footprint (docs/algorithm.md, "The seabed the FLS
+// judges against"). A box face and top the PS saw before any seabed went into
+// the seabed ring (no plane yet to call them risen); the seabed echoes after
+// them cannot outvote a trim that starts from all echoes, so the plane judged
+// for rises stands lifted, with a scatter that hides any rise. Fitted from the
+// lower envelope, the same echoes give the seabed.
+TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftTheFootprintSeabed) {
+    ObjectDetector det{DetectorConfig{}};
+    std::mt19937 rng(3);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    for (int i = 0; i < 14; ++i)  // the front face at x = -1, 1 m tall, top to foot
+        (void)det.addEchoPoint(Eigen::Vector3d(-1.0, 0.0, 19.0 + i / 13.0));
+    for (int i = 0; i < 40; ++i)  // the top, 1 m up
+        (void)det.addEchoPoint(Eigen::Vector3d(-1.0 + i * 0.05, 0.0, 19.0 + noise(rng)));
+    for (int i = 0; i < 80; ++i)  // the seabed before the box, swept back and forth
+        (void)det.addEchoPoint(Eigen::Vector3d(-1.1 - 2.0 * std::fabs(std::sin(i * 0.1)), 0.0, 20.0 + noise(rng)));
+    const Eigen::Vector2d box_middle(0.0, 0.0);
+    const std::optional<SeabedFit> rise = det.seabedAt(box_middle);
+    ASSERT_TRUE(rise.has_value());
+    // What the FLS judged against before: lifted, or scattered past any rise.
+    EXPECT_TRUE(rise->depthAt(box_middle) < 19.8 || rise->rms > 0.1)
+        << "depth " << rise->depthAt(box_middle) << " rms " << rise->rms;
+    // The FLS at 3.12 m altitude, 3.7 m before the box's middle, looking down 40 deg at it.
+    const Eigen::Vector3d fls(-3.7, 0.0, 16.88);
+    const Eigen::Vector3d boresight(std::cos(40.0 * M_PI / 180.0), 0.0, std::sin(40.0 * M_PI / 180.0));
+    const std::optional<SeabedFit> footprint = det.seabedAlongRay(fls, boresight);
+    ASSERT_TRUE(footprint.has_value());
+    EXPECT_NEAR(footprint->depthAt(box_middle), 20.0, 0.05);
+    EXPECT_LT(footprint->rms, 0.06);
+}
+
+// The PS head sweeps its look 3-9 m ahead: its newest echo often lies where no
+// seabed echo was gathered yet, and the plane there does not exist. The FLS
+// footprint, nearer, lies over echoes gathered on the way.
+TEST(ObjectDetector, TheFootprintSeabedStandsWhereTheNewestEchoHasNone) {
+    ObjectDetector det{DetectorConfig{}};
+    for (int i = 0; i < 300; ++i)
+        (void)det.addEchoPoint(Eigen::Vector3d(i * 0.02, 0.3 * std::sin(i * 0.7), 20.0 + 0.01 * std::sin(i * 1.3)));
+    (void)det.addEchoPoint(Eigen::Vector3d(12.0, 0.0, 20.0));  // the far end of a sweep
+    EXPECT_FALSE(det.seabedAtNewestEcho().has_value());
+    const Eigen::Vector3d fls(4.0, 0.0, 16.88);
+    const Eigen::Vector3d boresight(std::cos(40.0 * M_PI / 180.0), 0.0, std::sin(40.0 * M_PI / 180.0));
+    const std::optional<SeabedFit> footprint = det.seabedAlongRay(fls, boresight);
+    ASSERT_TRUE(footprint.has_value());
+    EXPECT_NEAR(footprint->depthAt(Eigen::Vector2d(7.7, 0.0)), 20.0, 0.02);
+    // Nothing at all before any echo; a restored checkpoint gives the same plane.
+    EXPECT_FALSE(ObjectDetector{DetectorConfig{}}.seabedAlongRay(fls, boresight).has_value());
+    std::vector<uint8_t> buf(1 << 20);
+    StateWriter w(buf.data(), buf.size());
+    det.saveState(w);
+    ObjectDetector restored{DetectorConfig{}};
+    StateReader r(buf.data(), w.size());
+    ASSERT_TRUE(restored.loadState(r));
+    const std::optional<SeabedFit> again = restored.seabedAlongRay(fls, boresight);
+    ASSERT_TRUE(again.has_value());
+    EXPECT_EQ(again->depth, footprint->depth);
+    EXPECT_EQ(again->gradient, footprint->gradient);
+}

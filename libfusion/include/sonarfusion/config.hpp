@@ -142,6 +142,16 @@ struct UpdateConfig {
     bool fls_highlight_above_seabed = true;
     int fls_highlight_half_window = 2;
     double fls_highlight_false_alarm = 1e-6;
+    // The seabed plane those votes are judged against is fitted where the FLS
+    // boresight meets the seabed (its footprint), from the PS seabed echoes'
+    // lower envelope (ObjectDetector::seabedAlongRay). False: the detector's
+    // plane around the newest PS echo, trimmed as for rises. The PS head sweeps
+    // its look 3-9 m ahead, so at the far end of each sweep no fit existed
+    // there (a fifth of the frames voted nothing above the seabed); and object
+    // echoes the detector took as seabed before it had a plane lifted that
+    // plane and its scatter until no vote counted (docs/algorithm.md, "The
+    // seabed the FLS judges against").
+    bool fls_seabed_at_footprint = true;
     // Report as objects only voxels that a PS ray crossed or ended in.
     bool require_ps_observation = true;
     // PS carving stops at the first bin that could be an echo, not at the

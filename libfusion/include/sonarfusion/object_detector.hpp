@@ -38,13 +38,29 @@ public:
     // on the first call after each echo and kept until the next: a pure
     // function of the echo rings, so a restored checkpoint gives the same.
     [[nodiscard]] const std::optional<SeabedFit>& seabedAtNewestEcho() const;
+    // The seabed plane around where the ray origin + t direction (NED, t > 0)
+    // meets it, for a sensor looking along that ray (the FLS boresight): the
+    // plane around the newest echo (else under the origin) places the meeting
+    // point, the plane is fitted there, and where too few echoes lie there the
+    // placing plane stands. Both fits start from the echoes' lower envelope
+    // (Trim::LowerEnvelope), so object echoes taken as seabed before any plane
+    // existed do not lift it. Nothing until some fit exists.
+    [[nodiscard]] std::optional<SeabedFit> seabedAlongRay(const Eigen::Vector3d& origin,
+                                                          const Eigen::Vector3d& direction) const;
     // Seabed depth (NED z, m) under the newest echo; nothing until the fit exists.
     [[nodiscard]] std::optional<double> baseline() const;
     // The rise an echo must exceed above the fitted seabed (m).
     [[nodiscard]] double riseThreshold(const SeabedFit& fit) const;
 
 private:
-    [[nodiscard]] std::optional<SeabedFit> fit(const Eigen::Vector2d& xy, bool reject_outliers) const;
+    // How fit() trims: Rise, for judging rises (twice leave out echoes more
+    // than one scatter above, then keep those within 3 scatters); LowerEnvelope,
+    // for a seabed a share of whose echoes may be an object's (keep those no
+    // shallower than their median, then those at or below the plane through
+    // them, then three times those within 3 scatters; nothing when fewer than
+    // a quarter of min_seabed_echoes are left).
+    enum class Trim { Rise, LowerEnvelope };
+    [[nodiscard]] std::optional<SeabedFit> fit(const Eigen::Vector2d& xy, Trim trim) const;
     void addSeabed(const Eigen::Vector3d& p);
 
     DetectorConfig cfg_;
