@@ -196,3 +196,27 @@ TEST(ObjectDetector, TheFootprintSeabedStandsWhereTheNewestEchoHasNone) {
     EXPECT_EQ(again->depth, footprint->depth);
     EXPECT_EQ(again->gradient, footprint->gradient);
 }
+
+// The lower-envelope trim's first cut is level (the median depth): on a sloping
+// seabed it keeps the downhill half, a part of the same plane, and the passes
+// after it take the whole slope back, so the slope is neither flattened nor
+// shifted (a 5 deg slope across the fit radius spans 0.5 m of depth).
+TEST(ObjectDetector, TheFootprintSeabedFollowsASlope) {
+    ObjectDetector det{DetectorConfig{}};
+    std::mt19937 rng(5);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    const double slope = std::tan(5.0 * M_PI / 180.0);
+    auto depth = [&](double x, double y) { return 20.0 - slope * x + 0.5 * slope * y; };
+    for (int i = 0; i < 500; ++i) {
+        const double x = i * 0.02, y = 0.6 * std::sin(i * 0.37);
+        (void)det.addEchoPoint(Eigen::Vector3d(x, y, depth(x, y) + noise(rng)));
+    }
+    const Eigen::Vector3d fls(6.0, 0.0, depth(6.0, 0.0) - 3.0);
+    const Eigen::Vector3d boresight(std::cos(40.0 * M_PI / 180.0), 0.0, std::sin(40.0 * M_PI / 180.0));
+    const std::optional<SeabedFit> f = det.seabedAlongRay(fls, boresight);
+    ASSERT_TRUE(f.has_value());
+    for (double x : {7.0, 8.0, 9.0}) EXPECT_NEAR(f->depthAt(Eigen::Vector2d(x, 0.0)), depth(x, 0.0), 0.02) << x;
+    EXPECT_NEAR(f->gradient.x(), -slope, 0.01);
+    EXPECT_LT(f->rms, 0.05);
+    EXPECT_GT(f->rms, 0.015);  // the seabed's own scatter, both sides, not the lower half's
+}
