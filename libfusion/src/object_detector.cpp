@@ -1,5 +1,7 @@
 #include "sonarfusion/object_detector.hpp"
 
+#include "sonarfusion/robust_scatter.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -63,8 +65,7 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         for (int i = 0; i < seabed_count_; ++i)
             if ((seabed_[i].head<2>() - xy).squaredNorm() <= r2) residual_[m++] = seabed_[i].z();
         if (m < cfg_.min_seabed_echoes) return std::nullopt;
-        std::nth_element(residual_.begin(), residual_.begin() + m / 2, residual_.begin() + m);
-        median_depth = residual_[m / 2];
+        median_depth = medianInPlace(residual_, static_cast<std::size_t>(m));
     }
     SeabedFit f;
     const int passes = lower ? 6 : 4;
@@ -112,12 +113,12 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         f.depth = zc;
         f.gradient = a.ldlt().solve(b);
         f.echoes = n;
-        // Robust scatter of the echoes in this fit about it.
-        int m = 0;
+        // Robust scatter of the echoes in this fit about it (not about their
+        // median: the plane is the model, its residuals' centre is zero).
+        std::size_t m = 0;
         for (int i = 0; i < seabed_count_; ++i)
-            if (use(seabed_[i])) residual_[m++] = std::fabs(seabed_[i].z() - f.depthAt(seabed_[i].head<2>()));
-        std::nth_element(residual_.begin(), residual_.begin() + m / 2, residual_.begin() + m);
-        f.rms = 1.4826 * residual_[m / 2];
+            if (use(seabed_[i])) residual_[m++] = seabed_[i].z() - f.depthAt(seabed_[i].head<2>());
+        f.rms = robustSigmaInPlace(residual_, m, 0.0);
     }
     return f;
 }

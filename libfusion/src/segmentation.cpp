@@ -1,5 +1,7 @@
 #include "sonarfusion/segmentation.hpp"
 
+#include "sonarfusion/robust_scatter.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -79,13 +81,8 @@ double Segmenter::raisedColumnThreshold(double resolution) {
     for (std::size_t col = 0; col < surface_.size(); ++col)
         if (!std::isnan(surface_[col]) && !std::isnan(baseline_[col])) residual_[n++] = surface_[col] - baseline_[col];
     if (n < 3) return cfg_.min_object_height;
-    const auto begin = residual_.begin(), end = residual_.begin() + static_cast<std::ptrdiff_t>(n);
-    const auto mid = begin + static_cast<std::ptrdiff_t>(n / 2);
-    std::nth_element(begin, mid, end);
-    const double median = *mid;
-    for (auto it = begin; it != end; ++it) *it = std::abs(*it - median);
-    std::nth_element(begin, mid, end);
-    const double sigma = 1.4826 * *mid;
+    const double median = medianInPlace(residual_, n);
+    const double sigma = robustSigmaInPlace(residual_, n, median);
     return std::min(cfg_.min_object_height, std::max(0.5 * resolution, cfg_.seabed_raised_sigmas * sigma));
 }
 
