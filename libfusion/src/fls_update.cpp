@@ -58,7 +58,7 @@ void FlsUpdater::computeSeabedRanges(const Geometry& g, const Eigen::Vector3d& s
         bool reaches = false;
         for (int k = 0; k < n; ++k) {
             const Eigen::Vector3f& d = table[static_cast<std::size_t>(col) * n + k];
-            const double rise = d.z() - f.gradient.x() * d.x() - f.gradient.y() * d.y();
+            const double rise = f.closingRate(d);
             if (rise > 1e-6 && depth_below > 0.0) {
                 nearest = reaches ? std::min(nearest, depth_below / rise) : depth_below / rise;
                 reaches = true;

@@ -127,13 +127,10 @@ std::optional<SeabedFit> ObjectDetector::seabedAt(const Eigen::Vector2d& xy) con
 
 std::optional<SeabedFit> ObjectDetector::seabedAlongRay(const Eigen::Vector3d& origin,
                                                         const Eigen::Vector3d& direction) const {
-    if (seabed_count_ == 0) return std::nullopt;
     std::optional<SeabedFit> placing = fit(last_xy_, Trim::LowerEnvelope);
     if (!placing) placing = fit(origin.head<2>(), Trim::LowerEnvelope);
     if (!placing) return std::nullopt;
-    // NED: the ray nears the plane z = depthAt(xy) when its z grows faster than
-    // the plane's depth along its horizontal heading.
-    const double descent = direction.z() - placing->gradient.dot(direction.head<2>());
+    const double descent = placing->closingRate(direction);
     const double depth_below = placing->depthAt(origin.head<2>()) - origin.z();
     if (!(descent > 1e-6) || !(depth_below > 0.0)) return placing;
     const Eigen::Vector2d xy = origin.head<2>() + (depth_below / descent) * direction.head<2>();

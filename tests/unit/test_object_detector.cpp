@@ -7,6 +7,19 @@
 
 using namespace sonarfusion;
 
+namespace {
+// The detector as a checkpoint restores it (resume is byte-exact).
+ObjectDetector restoredFromCheckpoint(const ObjectDetector& det) {
+    std::vector<uint8_t> buf(1 << 20);
+    StateWriter w(buf.data(), buf.size());
+    det.saveState(w);
+    ObjectDetector restored{DetectorConfig{}};
+    StateReader r(buf.data(), w.size());
+    EXPECT_TRUE(restored.loadState(r));
+    return restored;
+}
+}  // namespace
+
 TEST(ObjectDetector, FiresOnARisingProfileAndCentresOnIt) {
     ObjectDetector det{DetectorConfig{}};
     std::mt19937 rng(1);
@@ -125,12 +138,7 @@ TEST(ObjectDetector, TheSeabedAtTheNewestEchoFollowsEveryEchoAndSurvivesACheckpo
         before = f;
     }
     ASSERT_TRUE(before.has_value());
-    std::vector<uint8_t> buf(1 << 20);
-    StateWriter w(buf.data(), buf.size());
-    det.saveState(w);
-    ObjectDetector restored{DetectorConfig{}};
-    StateReader r(buf.data(), w.size());
-    ASSERT_TRUE(restored.loadState(r));
+    const ObjectDetector restored = restoredFromCheckpoint(det);
     ASSERT_TRUE(restored.seabedAtNewestEcho().has_value());
     EXPECT_EQ(restored.seabedAtNewestEcho()->depth, before->depth);
     EXPECT_EQ(restored.seabedAtNewestEcho()->gradient, before->gradient);
@@ -185,13 +193,7 @@ TEST(ObjectDetector, TheFootprintSeabedStandsWhereTheNewestEchoHasNone) {
     EXPECT_NEAR(footprint->depthAt(Eigen::Vector2d(7.7, 0.0)), 20.0, 0.02);
     // Nothing at all before any echo; a restored checkpoint gives the same plane.
     EXPECT_FALSE(ObjectDetector{DetectorConfig{}}.seabedAlongRay(fls, boresight).has_value());
-    std::vector<uint8_t> buf(1 << 20);
-    StateWriter w(buf.data(), buf.size());
-    det.saveState(w);
-    ObjectDetector restored{DetectorConfig{}};
-    StateReader r(buf.data(), w.size());
-    ASSERT_TRUE(restored.loadState(r));
-    const std::optional<SeabedFit> again = restored.seabedAlongRay(fls, boresight);
+    const std::optional<SeabedFit> again = restoredFromCheckpoint(det).seabedAlongRay(fls, boresight);
     ASSERT_TRUE(again.has_value());
     EXPECT_EQ(again->depth, footprint->depth);
     EXPECT_EQ(again->gradient, footprint->gradient);

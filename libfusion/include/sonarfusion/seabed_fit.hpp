@@ -15,6 +15,13 @@ struct SeabedFit {
     double rms = 0.0;                                  // m, robust residual scatter (1.4826 x MAD)
     int echoes = 0;
     [[nodiscard]] double depthAt(const Eigen::Vector2d& xy) const { return depth + gradient.dot(xy - centre); }
+    // How fast a ray along direction d (NED) closes on the plane per unit of
+    // length: its descent less the plane's along its heading. A ray from above
+    // meets the plane, at (depth under it) / this, only when this is positive.
+    template <class Vec3>
+    [[nodiscard]] double closingRate(const Vec3& d) const {
+        return d.z() - gradient.x() * d.x() - gradient.y() * d.y();
+    }
 };
 
 }  // namespace sonarfusion
