@@ -111,6 +111,9 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("cluster_radius", m.detector.cluster_radius);
     det.read("min_risen_echoes", m.detector.min_risen_echoes);
     det.read("risen_capacity", m.detector.risen_capacity);
+    det.read("rise_from_lower_envelope", m.detector.rise_from_lower_envelope);
+    det.read("judge_early_echoes", m.detector.judge_early_echoes);
+    det.read("replay_pings", m.detector.replay_pings);
     det.rejectUnknownKeys();
 
     Fields seg(top.child("segmentation"), "segmentation");

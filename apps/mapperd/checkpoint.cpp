@@ -14,7 +14,7 @@ namespace sonarfusion {
 
 namespace {
 constexpr char kMagic[8] = {'S', 'F', 'C', 'K', 'P', 'T', '0', '1'};
-constexpr uint32_t kVersion = 5;  // 2: survey mode (every map slot, published boxes, detector count); 3: parked maps; 4: above-seabed FLS votes per voxel; 5: PS crossings per voxel
+constexpr uint32_t kVersion = 6;  // 2: survey mode (every map slot, published boxes, detector count); 3: parked maps; 4: above-seabed FLS votes per voxel; 5: PS crossings per voxel; 6: held PS pings, which seabed echoes were judged
 
 uint64_t fnv1a(const uint8_t* p, std::size_t n, uint64_t h = 1469598103934665603ull) {
     for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -62,7 +62,7 @@ uint64_t configFingerprint(const DaemonConfig& d) {
       << '|' << m.update.p_occupied << ' ' << m.update.p_free << ' ' << m.update.alpha_fls << ' ' << m.update.fls_free_vote_ratio << ' ' << m.update.alpha_ps
       << ' ' << m.update.fls_enabled << m.update.ps_carving_enabled << '|' << m.nav_buffer_capacity << ' '
       << m.nav_timeline_confirm << ' ' << m.max_nav_gap_us << '|' << m.detector.seabed_capacity << ' '
-      << m.detector.risen_capacity << '|' << d.fls_pending_slots << ' ' << d.ps_pending_slots;
+      << m.detector.risen_capacity << ' ' << m.detector.replay_pings << '|' << d.fls_pending_slots << ' ' << d.ps_pending_slots;
     const std::string t = s.str();
     return fnv1a(reinterpret_cast<const uint8_t*>(t.data()), t.size());
 }

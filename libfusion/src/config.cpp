@@ -137,6 +137,7 @@ Check DetectorConfig::validate() const {
     if (!inRange(risen_capacity, 1, 65536)) return bad("risen_capacity", range(1, 65536));
     if (!inRange(min_risen_echoes, 1, risen_capacity))
         return bad("min_risen_echoes", "must be in 1..risen_capacity (" + std::to_string(risen_capacity) + ")");
+    if (!inRange(replay_pings, 0, 65536)) return bad("replay_pings", range(0, 65536));
     return std::nullopt;
 }
 

@@ -69,7 +69,7 @@ std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
                        (cfg.fls_max_geometries - 1) * (static_cast<double>(cfg.fls.rows + cfg.fls.beams) * 8.0 +
                                                        static_cast<double>(cfg.fls.beams) * cfg.fls.elevation_samples * 12.0);
     const double bytes = voxels * (24.0 + 7.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
-                         (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0 +
+                         (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0 + cfg.detector.replay_pings * 176.0 +
                          cfg.survey.published_capacity * 48.0;
     return bytes > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(bytes);
 }
@@ -102,6 +102,7 @@ Mapper::Mapper(const MapperConfig& cfg)
     fls_models_.reserve(static_cast<std::size_t>(cfg.fls_max_geometries - 1));
     for (int i = 1; i < cfg.fls_max_geometries; ++i) fls_models_.emplace_back(cfg.fls);
     fls_geometry_used_.assign(static_cast<std::size_t>(cfg.fls_max_geometries), 0);
+    held_pings_.resize(static_cast<std::size_t>(cfg.detector.replay_pings));
 }
 
 Outcome Mapper::count(Outcome o) {
@@ -386,19 +387,28 @@ Outcome Mapper::addPs(const PsPing& ping) {
     // map being made. Carving first: a map the detector anchors on this ping
     // starts with the next one.
     bool any = false;
+    for (int s = 0; s < slotCount(); ++s) any = any || updatable(s);
+    const bool hold = !held_pings_.empty() && cfg_.update.ps_carving_enabled;
     std::optional<PsEchoGroup> group;
     double carve_range = -1.0;
+    if (any || hold) {
+        group = closestGroup(ping, cfg_.ps_selection);
+        // Carving stops at the first bin that could be an echo (UpdateConfig::ps_carve_noise_sigmas,
+        // ps_carve_echo_window_voxels).
+        if (group)
+            carve_range = carveStopRange(ping, *group, cfg_.ps_selection, cfg_.update.ps_carve_noise_sigmas,
+                                         cfg_.update.ps_carve_echo_window_voxels * cfg_.map.resolution);
+    }
+    if (hold && group) {
+        // Held for a map anchored later (replayHeldPings), this ping included.
+        held_pings_[static_cast<std::size_t>(held_next_)] =
+            HeldPing{world_from_sensor, ping.head_angle, rangeOfBin(ping, group->peak), ping.intensity[group->peak] / 255.0,
+                     carve_range, ping.range_max};
+        held_next_ = (held_next_ + 1) % static_cast<int>(held_pings_.size());
+        held_count_ = std::min(held_count_ + 1, static_cast<int>(held_pings_.size()));
+    }
     for (int s = 0; s < slotCount(); ++s) {
         if (!updatable(s)) continue;
-        if (!any) {
-            group = closestGroup(ping, cfg_.ps_selection);
-            // Carving stops at the first bin that could be an echo (UpdateConfig::ps_carve_noise_sigmas,
-            // ps_carve_echo_window_voxels).
-            if (group)
-                carve_range = carveStopRange(ping, *group, cfg_.ps_selection, cfg_.update.ps_carve_noise_sigmas,
-                                             cfg_.update.ps_carve_echo_window_voxels * cfg_.map.resolution);
-        }
-        any = true;
         if (!group || !cfg_.update.ps_carving_enabled) continue;
         if (!reaches(s, world_from_sensor.translation(), ping.range_max)) continue;
         const PsCarveStats st = ps_carver_.apply(ping.head_angle, rangeOfBin(ping, group->peak), world_from_sensor,
@@ -516,6 +526,27 @@ void Mapper::initialiseMapAt(const Eigen::Vector3d& centre) {
     slots_[static_cast<std::size_t>(s)] = MapSlot{next_map_id_++, false, 0, false};
     maps_[static_cast<std::size_t>(s)].initialiseAt(centre);
     ++counters_.map_initialisations;
+    replayHeldPings(s);
+}
+
+// The detector declares an object only once enough risen echoes gather, and
+// only once a seabed plane exists where they lie (ObjectDetector): by then the
+// PS may have swept past the object (a mission starting close to it, a vehicle
+// fast for its ping rate). The pings that found it are carved into the new map
+// as they would have been had it existed, in their order; the ping that
+// declared it is the newest of them.
+void Mapper::replayHeldPings(int slot) {
+    const int n = held_count_;
+    const int cap = static_cast<int>(held_pings_.size());
+    for (int k = 0; k < n; ++k) {
+        const HeldPing& h = held_pings_[static_cast<std::size_t>((held_next_ - n + k + cap) % cap)];
+        if (!reaches(slot, h.world_from_sensor.translation(), h.range_max)) continue;
+        const PsCarveStats st = ps_carver_.apply(h.head_angle, h.range, h.world_from_sensor,
+                                                 maps_[static_cast<std::size_t>(slot)], h.strength, h.carve_range);
+        counters_.ps_endpoints_outside_map += st.endpoints_outside_map;
+        if (st.endpoints_in_map > 0) ++slots_[static_cast<std::size_t>(slot)].updates;
+        ++counters_.ps_pings_replayed;
+    }
 }
 
 
@@ -537,6 +568,14 @@ void Mapper::saveState(StateWriter& w) const {
         w.pod(published_[static_cast<std::size_t>(i)].map_id);
     }
     detector_.saveState(w);
+    w.pod(held_count_);
+    w.pod(held_next_);
+    for (int i = 0; i < held_count_; ++i) {
+        const HeldPing& h = held_pings_[static_cast<std::size_t>(i)];
+        const Eigen::Matrix<double, 3, 4> m = h.world_from_sensor.matrix().topRows<3>();
+        for (int k = 0; k < 12; ++k) w.pod(m.data()[k]);
+        for (double v : {h.head_angle, h.range, h.strength, h.carve_range, h.range_max}) w.pod(v);
+    }
     nav_.saveState(w);
     w.pod(nav_candidate_count_);
     for (int i = 0; i < nav_candidate_count_; ++i) saveTimedPose(w, nav_candidate_[i]);
@@ -569,7 +608,7 @@ bool Mapper::loadState(StateReader& r) {
         if (!r.pod(published_[static_cast<std::size_t>(i)].map_id) || published_[static_cast<std::size_t>(i)].map_id < 0)
             return false;
     }
-    if (!detector_.loadState(r) || !nav_.loadState(r) || !r.pod(held) || held < 0 ||
+    if (!detector_.loadState(r) || !loadHeldPings(r) || !nav_.loadState(r) || !r.pod(held) || held < 0 ||
         held >= cfg_.nav_timeline_confirm)
         return false;
     for (int i = 0; i < held; ++i)
@@ -578,12 +617,33 @@ bool Mapper::loadState(StateReader& r) {
     return track_axis_.loadState(r) && r.pod(counters_);
 }
 
+bool Mapper::loadHeldPings(StateReader& r) {
+    const int cap = static_cast<int>(held_pings_.size());
+    if (!r.pod(held_count_) || !r.pod(held_next_) || held_count_ < 0 || held_count_ > cap || held_next_ < 0 ||
+        held_next_ >= std::max(cap, 1) || (held_count_ < cap && held_next_ != held_count_ % std::max(cap, 1)))
+        return false;
+    for (int i = 0; i < held_count_; ++i) {
+        HeldPing& h = held_pings_[static_cast<std::size_t>(i)];
+        Eigen::Matrix<double, 3, 4> m;
+        for (int k = 0; k < 12; ++k)
+            if (!r.pod(m.data()[k])) return false;
+        for (double* v : {&h.head_angle, &h.range, &h.strength, &h.carve_range, &h.range_max})
+            if (!r.pod(*v)) return false;
+        if (!m.allFinite() || !std::isfinite(h.head_angle + h.range + h.strength + h.carve_range + h.range_max))
+            return false;
+        h.world_from_sensor.matrix().topRows<3>() = m;
+        h.world_from_sensor.matrix().row(3) << 0.0, 0.0, 0.0, 1.0;
+    }
+    return true;
+}
+
 std::size_t Mapper::stateBytesBound() const {
     const std::size_t pose = sizeof(int64_t) + 6 * sizeof(double);
     // Per voxel: log-odds, flags, above-seabed votes, PS crossings.
     return 64 + maps_.size() * (maps_.front().size() * (sizeof(float) + 3) + 64) + 64 +
            published_.size() * 56 + 24 * 2 +
-           static_cast<std::size_t>(cfg_.detector.seabed_capacity + cfg_.detector.risen_capacity) * 24 + 64 +
+           static_cast<std::size_t>(cfg_.detector.seabed_capacity + cfg_.detector.risen_capacity) * 24 +
+           static_cast<std::size_t>(cfg_.detector.seabed_capacity) + 64 + held_pings_.size() * 17 * sizeof(double) + 16 +
            static_cast<std::size_t>(cfg_.nav_buffer_capacity) * pose + 16 +
            static_cast<std::size_t>(kMaxNavTimelineConfirm) * pose + 64 + sizeof(MapperCounters);
 }

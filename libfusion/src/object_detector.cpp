@@ -19,12 +19,14 @@ ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
             "detector: need seabed_radius, min_rise, cluster_radius > 0, rise_sigmas >= 0, "
             "3 <= min_seabed_echoes <= seabed_capacity <= 2^20, 1 <= min_risen_echoes <= risen_capacity <= 2^16");
     seabed_.assign(cfg.seabed_capacity, Eigen::Vector3d::Zero());
+    seabed_state_.assign(cfg.seabed_capacity, EchoState::Seabed);
     residual_.assign(cfg.seabed_capacity, 0.0);
     risen_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
 }
 
 void ObjectDetector::reset() {
     seabed_count_ = seabed_next_ = 0;
+    std::fill(seabed_state_.begin(), seabed_state_.end(), EchoState::Seabed);
     risen_count_ = risen_next_ = 0;
     last_xy_.setZero();
     detection_.reset();
@@ -63,30 +65,48 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
     if (lower) {
         int m = 0;
         for (int i = 0; i < seabed_count_; ++i)
-            if ((seabed_[i].head<2>() - xy).squaredNorm() <= r2) residual_[m++] = seabed_[i].z();
+            if (seabed_state_[i] != EchoState::RisenLater && (seabed_[i].head<2>() - xy).squaredNorm() <= r2)
+                residual_[m++] = seabed_[i].z();
         if (m < cfg_.min_seabed_echoes) return std::nullopt;
         median_depth = medianInPlace(residual_, static_cast<std::size_t>(m));
     }
     SeabedFit f;
     const int passes = lower ? 6 : 4;
-    for (int pass = 0; pass < passes; ++pass) {
+    int first_pass = 0;
+    // DetectorConfig::rise_from_lower_envelope: where the lower envelope gives
+    // a plane, the rise trim keeps only its last pass (the echoes within 3
+    // scatters either side), so a rough seabed seen mostly on its crests gets
+    // back its two-sided scatter; its first passes, which trim from the plane
+    // through every echo, are what object echoes taken before any plane lift.
+    if (!lower && cfg_.rise_from_lower_envelope) {
+        if (std::optional<SeabedFit> start = fit(xy, Trim::LowerEnvelope)) {
+            f = *start;
+            first_pass = passes - 1;
+        }
+    }
+    for (int pass = first_pass; pass < passes; ++pass) {
         const SeabedFit prev = f;
-        auto use = [&](const Eigen::Vector3d& p) {
+        // A scatter under a millimetre is rounding, not the seabed's: echoes
+        // exactly on a plane must all stay in the trim's window.
+        const double scatter = std::max(prev.rms, 1e-3);
+        auto use = [&](int i) {
+            if (seabed_state_[i] == EchoState::RisenLater) return false;
+            const Eigen::Vector3d& p = seabed_[i];
             if ((p.head<2>() - xy).squaredNorm() > r2) return false;
             if (pass == 0) return true;
             const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
             if (lower) {
                 if (pass == 1) return p.z() >= median_depth;
                 if (pass == 2) return residual >= 0.0;  // then the lower half about that plane
-                return std::fabs(residual) <= 3.0 * prev.rms;
+                return std::fabs(residual) <= 3.0 * scatter;
             }
-            return pass < passes - 1 ? residual >= -prev.rms : std::fabs(residual) <= 3.0 * prev.rms;
+            return pass < passes - 1 ? residual >= -scatter : std::fabs(residual) <= 3.0 * scatter;
         };
         Eigen::Vector2d sum_xy = Eigen::Vector2d::Zero();
         double sum_z = 0.0;
         int n = 0;
         for (int i = 0; i < seabed_count_; ++i)
-            if (use(seabed_[i])) {
+            if (use(i)) {
                 sum_xy += seabed_[i].head<2>();
                 sum_z += seabed_[i].z();
                 ++n;
@@ -104,7 +124,7 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         Eigen::Matrix2d a = Eigen::Matrix2d::Identity() * (1e-3 * n);  // ridge: (3 cm)^2 per echo
         Eigen::Vector2d b = Eigen::Vector2d::Zero();
         for (int i = 0; i < seabed_count_; ++i)
-            if (use(seabed_[i])) {
+            if (use(i)) {
                 const Eigen::Vector2d d = seabed_[i].head<2>() - c;
                 a += d * d.transpose();
                 b += d * (seabed_[i].z() - zc);
@@ -117,7 +137,7 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         // median: the plane is the model, its residuals' centre is zero).
         std::size_t m = 0;
         for (int i = 0; i < seabed_count_; ++i)
-            if (use(seabed_[i])) residual_[m++] = seabed_[i].z() - f.depthAt(seabed_[i].head<2>());
+            if (use(i)) residual_[m++] = seabed_[i].z() - f.depthAt(seabed_[i].head<2>());
         f.rms = robustSigmaInPlace(residual_, m, 0.0);
     }
     return f;
@@ -148,28 +168,20 @@ double ObjectDetector::riseThreshold(const SeabedFit& fit) const {
     return std::max(cfg_.min_rise, cfg_.rise_sigmas * fit.rms);
 }
 
-void ObjectDetector::addSeabed(const Eigen::Vector3d& p) {
+void ObjectDetector::addSeabed(const Eigen::Vector3d& p, EchoState state) {
     seabed_[seabed_next_] = p;
+    seabed_state_[seabed_next_] = state;
     seabed_next_ = (seabed_next_ + 1) % cfg_.seabed_capacity;
     if (seabed_count_ < cfg_.seabed_capacity) ++seabed_count_;
 }
 
-bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
-    if (!p.allFinite()) return false;
-    const Eigen::Vector2d xy = p.head<2>();
-    last_xy_ = xy;
-    newest_fit_valid_ = false;
-    const std::optional<SeabedFit> seabed = seabedAt(xy);
-    // NED: up is -z, so an echo that rose above the seabed has a smaller z.
-    if (!seabed || !(p.z() < seabed->depthAt(xy) - riseThreshold(*seabed))) {
-        // A seabed echo (risen echoes never enter the fit, so an object cannot
-        // drag the seabed up to itself).
-        addSeabed(p);
-        return false;
-    }
+void ObjectDetector::addRisen(const Eigen::Vector3d& p) {
     risen_[risen_next_] = p;
     risen_next_ = (risen_next_ + 1) % cfg_.risen_capacity;
     if (risen_count_ < cfg_.risen_capacity) ++risen_count_;
+}
+
+bool ObjectDetector::declareAround(const Eigen::Vector2d& xy) {
     // An object is where risen echoes gather: enough of them within
     // cluster_radius of this one. Isolated spikes (speckle, fish) never gather.
     const double c2 = cfg_.cluster_radius * cfg_.cluster_radius;
@@ -191,6 +203,56 @@ bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
     risen_count_ = kept;
     risen_next_ = kept % cfg_.risen_capacity;
     return true;
+}
+
+// Echoes taken while no plane existed where they lie went in as seabed, object
+// echoes among them when the PS's first sweeps fall on an object (a mission
+// starting close to it). The first plane there judges them as it would have
+// judged them on arrival; the plane is fitted over seabed_radius, so it holds
+// for every echo within it.
+bool ObjectDetector::judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit& plane) {
+    const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
+    const double rise = riseThreshold(plane);
+    int risen_now = 0;
+    for (int i = 0; i < seabed_count_; ++i) {
+        if (seabed_state_[i] != EchoState::Unjudged || (seabed_[i].head<2>() - xy).squaredNorm() > r2) continue;
+        const bool risen = seabed_[i].z() < plane.depthAt(seabed_[i].head<2>()) - rise;
+        seabed_state_[i] = risen ? EchoState::RisenLater : EchoState::Seabed;
+        if (!risen) continue;
+        addRisen(seabed_[i]);
+        ++risen_now;
+    }
+    if (risen_now == 0) return false;
+    newest_fit_valid_ = false;  // the seabed's fits no longer hold these echoes
+    // Newest first: the ring's last risen_now entries are the echoes just risen.
+    for (int k = 0; k < std::min(risen_now, risen_count_); ++k) {
+        const int i = ((risen_next_ - 1 - k) % cfg_.risen_capacity + cfg_.risen_capacity) % cfg_.risen_capacity;
+        if (declareAround(risen_[i].head<2>())) return true;
+    }
+    return false;
+}
+
+bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
+    if (!p.allFinite()) return false;
+    const Eigen::Vector2d xy = p.head<2>();
+    last_xy_ = xy;
+    newest_fit_valid_ = false;
+    const std::optional<SeabedFit> seabed = seabedAt(xy);
+    if (!seabed) {
+        addSeabed(p, EchoState::Unjudged);
+        return false;
+    }
+    const bool early = cfg_.judge_early_echoes && judgeEarlyEchoes(xy, *seabed);
+    // NED: up is -z, so an echo that rose above the seabed has a smaller z.
+    if (!(p.z() < seabed->depthAt(xy) - riseThreshold(*seabed))) {
+        // A seabed echo (risen echoes never enter the fit, so an object cannot
+        // drag the seabed up to itself).
+        addSeabed(p, EchoState::Seabed);
+        return early;
+    }
+    addRisen(p);
+    // One declaration per echo: a cluster this echo completes declares with the next.
+    return early || declareAround(xy);
 }
 
 namespace {
@@ -216,6 +278,7 @@ bool loadRing(StateReader& r, std::vector<Eigen::Vector3d>& ring, int& count, in
 
 void ObjectDetector::saveState(StateWriter& w) const {
     saveRing(w, seabed_, seabed_count_, seabed_next_);
+    for (EchoState e : seabed_state_) w.pod(static_cast<uint8_t>(e));
     saveRing(w, risen_, risen_count_, risen_next_);
     w.pod(last_xy_.x());
     w.pod(last_xy_.y());
@@ -228,7 +291,13 @@ void ObjectDetector::saveState(StateWriter& w) const {
 bool ObjectDetector::loadState(StateReader& r) {
     uint8_t has = 0;
     Eigen::Vector3d d;
-    if (!loadRing(r, seabed_, seabed_count_, seabed_next_) || !loadRing(r, risen_, risen_count_, risen_next_) ||
+    if (!loadRing(r, seabed_, seabed_count_, seabed_next_)) return false;
+    for (EchoState& e : seabed_state_) {
+        uint8_t v = 0;
+        if (!r.pod(v) || v > static_cast<uint8_t>(EchoState::RisenLater)) return false;
+        e = static_cast<EchoState>(v);
+    }
+    if (!loadRing(r, risen_, risen_count_, risen_next_) ||
         !r.pod(last_xy_.x()) || !r.pod(last_xy_.y()) || !r.pod(has) || !r.pod(d[0]) || !r.pod(d[1]) || !r.pod(d[2]) ||
         !r.pod(detections_) || detections_ < 0)
         return false;

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "sonarfusion/mapper.hpp"
 #include "sonarfusion/variant.hpp"
 #include "test_helpers.hpp"
@@ -116,4 +118,43 @@ TEST(Mapper, SegmentsAlongTheTrackAxisOfItsNav) {
     mapper.segment();
     EXPECT_NEAR(std::fabs(mapper.segmenter().alongTrack().y()), 1.0, 1e-9);
     EXPECT_NEAR(mapper.segmenter().alongTrack().x(), 0.0, 1e-9);
+}
+
+// DetectorConfig::replay_pings (docs/algorithm.md, "A mission that starts close
+// to an object"). The PS's first sweeps fall on the box, before the detector
+// has a seabed plane to call anything risen, so the map is anchored late. The
+// held pings are carved into it when it is: the map is then the one a map
+// anchored there before the first ping would have made (carve_only: the PS
+// alone, so nothing else differs). Without them it misses those sweeps.
+TEST(Mapper, AMapAnchoredLateHoldsThePingsThatFoundTheObject) {
+    test::BoxWorld world;
+    auto run = [&](int replay_pings, const Eigen::Vector3d* anchor_first) {
+        MapperConfig cfg;
+        applyVariant(Variant::CarveOnly, cfg);
+        cfg.detector.replay_pings = replay_pings;
+        auto mapper = std::make_unique<Mapper>(cfg);
+        if (anchor_first) mapper->initialiseMapAt(*anchor_first);
+        runPass(*mapper, world, 1000, -4.5);
+        return mapper;
+    };
+    const auto late = run(1024, nullptr);
+    ASSERT_TRUE(late->map().initialised());
+    EXPECT_EQ(late->counters().map_initialisations, 1);
+    EXPECT_GT(late->counters().ps_pings_replayed, 0);
+    const Eigen::Vector3d centre = late->map().centre();
+    const auto early = run(1024, &centre);
+    const auto unheld = run(0, nullptr);
+    ASSERT_TRUE(unheld->map().initialised());
+    ASSERT_EQ(unheld->map().centre(), centre);
+    EXPECT_EQ(unheld->counters().ps_pings_replayed, 0);
+    int differ_early = 0, differ_unheld = 0, observed_late = 0, observed_unheld = 0;
+    for (std::size_t i = 0; i < late->map().size(); ++i) {
+        differ_early += late->map().logOdds(i) != early->map().logOdds(i);
+        differ_unheld += late->map().logOdds(i) != unheld->map().logOdds(i);
+        observed_late += late->map().psObserved(i);
+        observed_unheld += unheld->map().psObserved(i);
+    }
+    EXPECT_EQ(differ_early, 0);
+    EXPECT_GT(differ_unheld, 100);
+    EXPECT_GT(observed_late, observed_unheld);
 }

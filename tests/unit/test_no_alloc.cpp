@@ -84,10 +84,12 @@ TEST(NoAllocation, ProcessingFramesPingsAndSegmentationAllocatesNothing) {
 }
 
 // Survey mode: two boxes 25 m apart, a second map anchored, the first
-// finalised and freed on the way, all without allocating.
+// finalised and freed on the way, all without allocating; each new map is
+// carved with the held PS pings (detector.replay_pings) from a ring sized here.
 TEST(NoAllocation, ASurveyAnchoringFinalisingAndFreeingMapsAllocatesNothing) {
     MapperConfig cfg;
     cfg.segmentation.seabed_from_ps_echoes = false;
+    cfg.detector.replay_pings = 1024;
     Mapper mapper{cfg};
     const test::BoxesWorld world{0.0, 25.0};
     const int steps = 7400;
@@ -118,6 +120,7 @@ TEST(NoAllocation, ASurveyAnchoringFinalisingAndFreeingMapsAllocatesNothing) {
     EXPECT_EQ(g_allocations.load(), 0);
     EXPECT_EQ(mapper.counters().map_initialisations, 2);
     EXPECT_EQ(mapper.counters().maps_finalised, 2);
+    EXPECT_GT(mapper.counters().ps_pings_replayed, 0);
     EXPECT_GE(published, 2u);
 }
 

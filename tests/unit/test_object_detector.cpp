@@ -150,10 +150,10 @@ TEST(ObjectDetector, TheSeabedAtTheNewestEchoFollowsEveryEchoAndSurvivesACheckpo
 // judges against"). A box face and top the PS saw before any seabed went into
 // the seabed ring (no plane yet to call them risen); the seabed echoes after
 // them cannot outvote a trim that starts from all echoes, so the plane judged
-// for rises stands lifted, with a scatter that hides any rise. Fitted from the
-// lower envelope, the same echoes give the seabed.
-TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftTheFootprintSeabed) {
-    ObjectDetector det{DetectorConfig{}};
+// for rises stood lifted (DetectorConfig::rise_from_lower_envelope off), with a
+// scatter that hides any rise. Fitted from the lower envelope, the same echoes
+// give the seabed.
+static void feedABoxSeenBeforeTheSeabed(ObjectDetector& det) {
     std::mt19937 rng(3);
     std::normal_distribution<double> noise(0.0, 0.03);
     for (int i = 0; i < 14; ++i)  // the front face at x = -1, 1 m tall, top to foot
@@ -162,6 +162,13 @@ TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftTheFootprintSeabed)
         (void)det.addEchoPoint(Eigen::Vector3d(-1.0 + i * 0.05, 0.0, 19.0 + noise(rng)));
     for (int i = 0; i < 80; ++i)  // the seabed before the box, swept back and forth
         (void)det.addEchoPoint(Eigen::Vector3d(-1.1 - 2.0 * std::fabs(std::sin(i * 0.1)), 0.0, 20.0 + noise(rng)));
+}
+
+TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftTheFootprintSeabed) {
+    DetectorConfig trim_from_all;
+    trim_from_all.rise_from_lower_envelope = false;
+    ObjectDetector det{trim_from_all};
+    feedABoxSeenBeforeTheSeabed(det);
     const Eigen::Vector2d box_middle(0.0, 0.0);
     const std::optional<SeabedFit> rise = det.seabedAt(box_middle);
     ASSERT_TRUE(rise.has_value());
@@ -175,6 +182,84 @@ TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftTheFootprintSeabed)
     ASSERT_TRUE(footprint.has_value());
     EXPECT_NEAR(footprint->depthAt(box_middle), 20.0, 0.05);
     EXPECT_LT(footprint->rms, 0.06);
+}
+
+// DetectorConfig::rise_from_lower_envelope (docs/algorithm.md, "A mission that
+// starts close to an object"). The same early box echoes lifted the plane rises
+// are judged against too, so the box never rose above it and was never
+// detected. Started from the lower envelope, that plane is the seabed, and the
+// box's next echoes rise.
+TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftThePlaneRisesAreJudgedAgainst) {
+    for (const bool lower_envelope : {false, true}) {
+        DetectorConfig cfg;
+        cfg.rise_from_lower_envelope = lower_envelope;
+        cfg.judge_early_echoes = false;  // only the new echoes below
+        ObjectDetector det{cfg};
+        feedABoxSeenBeforeTheSeabed(det);
+        const Eigen::Vector2d box_middle(0.0, 0.0);
+        const std::optional<SeabedFit> rise = det.seabedAt(box_middle);
+        ASSERT_TRUE(rise.has_value());
+        bool fired = false;
+        for (int i = 0; i < 10 && !fired; ++i)  // the PS sweeps back onto the top
+            fired = det.addEchoPoint(Eigen::Vector3d(-0.5 + 0.1 * i, 0.0, 19.0));
+        if (lower_envelope) {
+            EXPECT_NEAR(rise->depthAt(box_middle), 20.0, 0.05);
+            EXPECT_LT(rise->rms, 0.06);
+            EXPECT_TRUE(fired);
+            ASSERT_TRUE(det.detection().has_value());
+            EXPECT_NEAR(det.detection()->z(), 19.0, 0.05);
+        } else {
+            EXPECT_TRUE(rise->depthAt(box_middle) < 19.8 || rise->rms > 0.1);
+            EXPECT_FALSE(fired);
+        }
+    }
+}
+
+// DetectorConfig::judge_early_echoes. The PS's first sweeps cross a boulder
+// (0.5 m tall) before any plane exists, then sweep on over bare seabed: the
+// boulder's echoes went in as seabed and no later echo falls on it. Judged when
+// the first plane exists, they are risen and declare it; left unjudged, the
+// boulder is never found on this pass.
+TEST(ObjectDetector, EchoesTakenBeforeAnyPlaneAreJudgedWhenOneExists) {
+    for (const bool judge : {false, true}) {
+        DetectorConfig cfg;
+        cfg.judge_early_echoes = judge;
+        ObjectDetector det{cfg};
+        std::mt19937 rng(6);
+        std::normal_distribution<double> noise(0.0, 0.02);
+        std::uniform_real_distribution<double> across(-3.0, 3.0);
+        int fired = 0;
+        for (int i = 0; i < 50; ++i) {  // 3 of every 5 echoes on the boulder, the rest on the seabed around
+            const bool boulder = i % 5 < 3;
+            const Eigen::Vector3d p = boulder ? Eigen::Vector3d(0.3 + 0.01 * i, 0.5, 19.5 + noise(rng))
+                                              : Eigen::Vector3d(-2.5 + 0.1 * i, across(rng), 20.0 + noise(rng));
+            fired += det.addEchoPoint(p);
+        }
+        EXPECT_EQ(fired, 0);  // no plane yet: nothing judged
+        for (int i = 0; i < 300; ++i) {  // bare seabed, never within 0.6 m of the boulder
+            Eigen::Vector3d p(across(rng), across(rng), 20.0 + noise(rng));
+            if ((p.head<2>() - Eigen::Vector2d(0.55, 0.5)).norm() < 0.6) continue;
+            fired += det.addEchoPoint(p);
+        }
+        if (judge) {
+            EXPECT_EQ(fired, 1);
+            ASSERT_TRUE(det.detection().has_value());
+            EXPECT_NEAR(det.detection()->x(), 0.55, 0.2);
+            EXPECT_NEAR(det.detection()->z(), 19.5, 0.05);
+            // The boulder's echoes left the seabed's fits: the plane over it is the seabed.
+            const std::optional<SeabedFit> f = det.seabedAt(Eigen::Vector2d(0.55, 0.5));
+            ASSERT_TRUE(f.has_value());
+            EXPECT_NEAR(f->depthAt(Eigen::Vector2d(0.55, 0.5)), 20.0, 0.03);
+            // And a checkpoint keeps which echoes those were.
+            const ObjectDetector restored = restoredFromCheckpoint(det);
+            const std::optional<SeabedFit> g = restored.seabedAt(Eigen::Vector2d(0.55, 0.5));
+            ASSERT_TRUE(g.has_value());
+            EXPECT_EQ(g->depth, f->depth);
+            EXPECT_EQ(g->echoes, f->echoes);
+        } else {
+            EXPECT_EQ(fired, 0);
+        }
+    }
 }
 
 // The PS head sweeps its look 3-9 m ahead: its newest echo often lies where no

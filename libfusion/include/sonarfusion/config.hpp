@@ -228,6 +228,21 @@ struct DetectorConfig {
     double cluster_radius = 0.5;     // m: risen echoes this close (horizontally) form one cluster
     int min_risen_echoes = 5;        // risen echoes in one cluster that declare an object
     int risen_capacity = 64;         // risen echoes kept (ring, allocated once)
+    // The plane rises are judged against starts from the echoes' lower envelope
+    // (ObjectDetector's Trim::LowerEnvelope), then trims as before: object
+    // echoes taken as seabed before any plane existed (a PS whose first sweeps
+    // fall on the object) do not lift it. False: from all the echoes (paper).
+    bool rise_from_lower_envelope = true;
+    // Echoes taken before a plane existed where they lie are judged when one
+    // first does there: a risen one joins the risen echoes (and leaves the
+    // seabed's fits). False: they stay seabed for good.
+    bool judge_early_echoes = true;
+    // PS pings kept (ring, allocated once) and carved into a map when the
+    // detector anchors it, so the sweeps that found the object count. 0 (the
+    // default): a map starts with the ping after the detection (paper). Off
+    // because the held far-look pings add echoes above the seabed beside an
+    // object (docs/algorithm.md, "A mission that starts close to an object").
+    int replay_pings = 0;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `detector` block
 };
 

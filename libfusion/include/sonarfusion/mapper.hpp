@@ -65,6 +65,7 @@ struct MapperCounters {
     int64_t objects_published = 0;
     int64_t objects_left_to_other_map = 0;  // a map that sees more of it publishes it
     int64_t objects_duplicate = 0;          // overlapped an object already published
+    int64_t ps_pings_replayed = 0;          // held PS pings carved into a map when it was anchored
 };
 
 // One slot of the survey pool. id 0: free.
@@ -179,6 +180,16 @@ private:
     // (released here); -1 when every slot holds a map being made.
     int slotForNewMap();
 
+    // One PS ping as carving uses it, held (DetectorConfig::replay_pings) for a
+    // map the detector anchors later.
+    struct HeldPing {
+        Eigen::Isometry3d world_from_sensor = Eigen::Isometry3d::Identity();
+        double head_angle = 0.0, range = 0.0, strength = 0.0, carve_range = -1.0, range_max = 0.0;
+    };
+    // Carves the held pings, oldest first, into the slot's new map.
+    void replayHeldPings(int slot);
+    [[nodiscard]] bool loadHeldPings(StateReader& r);
+
     struct Box {
         Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
         int map_id = 0;  // the map that published it
@@ -199,6 +210,8 @@ private:
     std::vector<int64_t> fls_geometry_used_;  // per slot: last use (tick), 0 = empty
     int64_t fls_geometry_tick_ = 0;
     PsCarver ps_carver_;
+    std::vector<HeldPing> held_pings_;  // ring, DetectorConfig::replay_pings
+    int held_count_ = 0, held_next_ = 0;
     ObjectDetector detector_;
     Segmenter segmenter_;
     NavBuffer nav_;

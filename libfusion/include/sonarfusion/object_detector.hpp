@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -61,10 +62,21 @@ private:
     // a quarter of min_seabed_echoes are left).
     enum class Trim { Rise, LowerEnvelope };
     [[nodiscard]] std::optional<SeabedFit> fit(const Eigen::Vector2d& xy, Trim trim) const;
-    void addSeabed(const Eigen::Vector3d& p);
+    // What a seabed-ring echo is: judged seabed; taken before any plane existed
+    // where it lies (not yet judged); or found risen when judged later (then
+    // kept out of every fit, as risen echoes are).
+    enum class EchoState : uint8_t { Seabed, Unjudged, RisenLater };
+    void addSeabed(const Eigen::Vector3d& p, EchoState state);
+    void addRisen(const Eigen::Vector3d& p);
+    // Judges the unjudged echoes within seabed_radius of xy against `plane`
+    // (DetectorConfig::judge_early_echoes); true when the risen ones declare an object.
+    bool judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit& plane);
+    // Declares an object when enough risen echoes lie within cluster_radius of xy.
+    bool declareAround(const Eigen::Vector2d& xy);
 
     DetectorConfig cfg_;
     std::vector<Eigen::Vector3d> seabed_;  // ring of seabed echoes
+    std::vector<EchoState> seabed_state_;  // per slot of seabed_
     mutable std::vector<double> residual_; // scratch for the median absolute residual
     int seabed_count_ = 0, seabed_next_ = 0;
     std::vector<Eigen::Vector3d> risen_;   // ring of risen echoes
