@@ -168,6 +168,11 @@ double ObjectDetector::riseThreshold(const SeabedFit& fit) const {
     return std::max(cfg_.min_rise, cfg_.rise_sigmas * fit.rms);
 }
 
+bool ObjectDetector::risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane) const {
+    // NED: up is -z, so an echo that rose above the seabed has a smaller z.
+    return p.z() < plane.depthAt(p.head<2>()) - riseThreshold(plane);
+}
+
 void ObjectDetector::addSeabed(const Eigen::Vector3d& p, EchoState state) {
     seabed_[seabed_next_] = p;
     seabed_state_[seabed_next_] = state;
@@ -212,11 +217,10 @@ bool ObjectDetector::declareAround(const Eigen::Vector2d& xy) {
 // for every echo within it.
 bool ObjectDetector::judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit& plane) {
     const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
-    const double rise = riseThreshold(plane);
     int risen_now = 0;
     for (int i = 0; i < seabed_count_; ++i) {
         if (seabed_state_[i] != EchoState::Unjudged || (seabed_[i].head<2>() - xy).squaredNorm() > r2) continue;
-        const bool risen = seabed_[i].z() < plane.depthAt(seabed_[i].head<2>()) - rise;
+        const bool risen = risesAbove(seabed_[i], plane);
         seabed_state_[i] = risen ? EchoState::RisenLater : EchoState::Seabed;
         if (!risen) continue;
         addRisen(seabed_[i]);
@@ -243,8 +247,7 @@ bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
         return false;
     }
     const bool early = cfg_.judge_early_echoes && judgeEarlyEchoes(xy, *seabed);
-    // NED: up is -z, so an echo that rose above the seabed has a smaller z.
-    if (!(p.z() < seabed->depthAt(xy) - riseThreshold(*seabed))) {
+    if (!risesAbove(p, *seabed)) {
         // A seabed echo (risen echoes never enter the fit, so an object cannot
         // drag the seabed up to itself).
         addSeabed(p, EchoState::Seabed);

@@ -52,6 +52,8 @@ public:
     [[nodiscard]] std::optional<double> baseline() const;
     // The rise an echo must exceed above the fitted seabed (m).
     [[nodiscard]] double riseThreshold(const SeabedFit& fit) const;
+    // Whether echo p stands above `plane` by more than riseThreshold(plane).
+    [[nodiscard]] bool risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane) const;
 
 private:
     // How fit() trims: Rise, for judging rises (twice leave out echoes more
