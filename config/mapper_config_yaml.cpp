@@ -139,6 +139,7 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("fls_only_needs_support", g.fls_only_needs_support);
     seg.read("fls_only_not_above_ps_top", g.fls_only_not_above_ps_top);
     seg.read("low_echoes_seen_above_seabed", g.low_echoes_seen_above_seabed);
+    seg.read("base_follows_sloped_faces", g.base_follows_sloped_faces);
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("fill_below_through_unobserved", g.fill_below_through_unobserved);
     seg.read("seabed_from_lower_envelope", g.seabed_from_lower_envelope);

@@ -402,6 +402,27 @@ bool Segmenter::confirmedByPs(const VoxelMap& map, std::size_t voxel) const {
     return confirmed_[voxel] != 0;
 }
 
+// base_follows_sloped_faces: c, above the seabed's own voxel, is the foot of a
+// face that recedes upward in the direction (-dx, -dy) one voxel per layer over
+// three layers (0.3 m of face at 0.1 m voxels): nothing occupied stands on c,
+// and the voxels k layers up and k steps back (k = 1, 2, 3) are occupied, the
+// first two with nothing on them. The face then slopes on down and out through
+// the seabed voxel (c + dx, dy, +1). A vertical wall, a rounded body's undercut
+// foot and a bar's blurred end (the frame's crossbars, 0.35 m) make no such
+// staircase.
+bool Segmenter::recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, int dy) const {
+    if (c.z < 2 || !aboveBaseline(map, map.linear(c), 0.5 * map.resolution())) return false;
+    const VoxelIndex up{c.x, c.y, c.z - 1};
+    const VoxelIndex back{c.x - dx, c.y - dy, c.z - 1};
+    const VoxelIndex back_up{c.x - dx, c.y - dy, c.z - 2};
+    const VoxelIndex back2{c.x - 2 * dx, c.y - 2 * dy, c.z - 2};
+    const VoxelIndex back2_up{c.x - 2 * dx, c.y - 2 * dy, c.z - 3};
+    const VoxelIndex back3{c.x - 3 * dx, c.y - 3 * dy, c.z - 3};
+    if (c.z < 3 || !map.contains(back) || !map.contains(back3)) return false;
+    return !occupied_[map.linear(up)] && occupied_[map.linear(back)] && !occupied_[map.linear(back_up)] &&
+           occupied_[map.linear(back2)] && !occupied_[map.linear(back2_up)] && occupied_[map.linear(back3)];
+}
+
 void Segmenter::label(const VoxelMap& map) {
     const double res = map.resolution();
     const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
@@ -427,7 +448,7 @@ void Segmenter::label(const VoxelMap& map) {
         const bool holds_seabed = baseline_at_echo_centres_ && aboveBaseline(map, i, -0.5 * res) &&
                                   !aboveBaseline(map, i, 0.5 * res);
         if (holds_seabed) {
-            if (cfg_.fill_below_objects) label_[i] = -4;
+            if (cfg_.fill_below_objects) label_[i] = cfg_.base_follows_sloped_faces ? -6 : -4;
             continue;
         }
         if (!aboveBaseline(map, i, 0.0)) continue;
@@ -470,6 +491,7 @@ void Segmenter::label(const VoxelMap& map) {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         VoxelIndex lo{nx_, ny_, nz_}, hi{-1, -1, -1};
         double top_height = 0.0;
+        int seabed_joined = 0;  // voxels the seabed runs through: they never make an object big enough
         while (head < tail) {
             const std::size_t v = queue_[head++];
             const VoxelIndex c = map.fromLinear(v);
@@ -492,6 +514,14 @@ void Segmenter::label(const VoxelMap& map) {
                         // Unconfirmed occupied voxels join only straight down from the
                         // object: under its top, where the PS is shadowed.
                         if (label_[nl] == -4 && !(dz == 1 && dx == 0 && dy == 0)) continue;
+                        // The voxel the seabed runs through (-6) joins straight down, and
+                        // diagonally down from the foot of a face that recedes upward
+                        // (base_follows_sloped_faces). Only from a voxel above the
+                        // seabed's own voxel, so the join never walks along the seabed
+                        // where it steps a layer.
+                        if (label_[nl] == -6 && !(dz == 1 && dx == 0 && dy == 0) &&
+                            !(dz == 1 && recedingFoot(map, c, dx, dy)))
+                            continue;
                         // FLS-only voxels stay within one layer of that top
                         // (fls_only_not_above_ps_top): above it, elevation aliases.
                         if ((label_[nl] == -5 || label_[nl] == -3) && cfg_.fls_only_not_above_ps_top &&
@@ -504,13 +534,15 @@ void Segmenter::label(const VoxelMap& map) {
                         } else if (!confirmed_.empty()) {
                             confirmed_[nl] = 0;
                         }
+                        if (label_[nl] == -6) ++seabed_joined;
                         label_[nl] = id;
                         queue_[tail++] = static_cast<uint32_t>(nl);
                     }
         }
         const int count = static_cast<int>(tail);
-        if (count < cfg_.min_object_voxels || static_cast<int>(objects_.size()) >= cfg_.max_objects) {
-            if (count >= cfg_.min_object_voxels) ++stats_.objects_dropped;
+        const int above_seabed = count - seabed_joined;
+        if (above_seabed < cfg_.min_object_voxels || static_cast<int>(objects_.size()) >= cfg_.max_objects) {
+            if (above_seabed >= cfg_.min_object_voxels) ++stats_.objects_dropped;
             for (std::size_t q = 0; q < tail; ++q) label_[queue_[q]] = 0;  // too small: not an object
             --next_id;
             continue;

@@ -69,6 +69,7 @@ private:
     void smoothBaseline(const VoxelMap& map, double raise_limit);
     void smoothBaselineAlongTrack(int half, double raise_limit);
     [[nodiscard]] bool aboveBaseline(const VoxelMap& map, std::size_t voxel, double margin) const;
+    [[nodiscard]] bool recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, int dy) const;
     void markConfirmed(const VoxelMap& map);
     void dropWaterAboveEchoes(const VoxelMap& map);
     void dropMirrorEchoes(const VoxelMap& map);
