@@ -411,14 +411,14 @@ bool Segmenter::confirmedByPs(const VoxelMap& map, std::size_t voxel) const {
 // foot and a bar's blurred end (the frame's crossbars, 0.35 m) make no such
 // staircase.
 bool Segmenter::recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, int dy) const {
-    if (c.z < 2 || !aboveBaseline(map, map.linear(c), 0.5 * map.resolution())) return false;
+    if (c.z < 3 || !aboveBaseline(map, map.linear(c), 0.5 * map.resolution())) return false;
     const VoxelIndex up{c.x, c.y, c.z - 1};
     const VoxelIndex back{c.x - dx, c.y - dy, c.z - 1};
     const VoxelIndex back_up{c.x - dx, c.y - dy, c.z - 2};
     const VoxelIndex back2{c.x - 2 * dx, c.y - 2 * dy, c.z - 2};
     const VoxelIndex back2_up{c.x - 2 * dx, c.y - 2 * dy, c.z - 3};
     const VoxelIndex back3{c.x - 3 * dx, c.y - 3 * dy, c.z - 3};
-    if (c.z < 3 || !map.contains(back) || !map.contains(back3)) return false;
+    if (!map.contains(back) || !map.contains(back3)) return false;
     return !occupied_[map.linear(up)] && occupied_[map.linear(back)] && !occupied_[map.linear(back_up)] &&
            occupied_[map.linear(back2)] && !occupied_[map.linear(back2_up)] && occupied_[map.linear(back3)];
 }
@@ -518,9 +518,12 @@ void Segmenter::label(const VoxelMap& map) {
                         // diagonally down from the foot of a face that recedes upward
                         // (base_follows_sloped_faces). Only from a voxel above the
                         // seabed's own voxel, so the join never walks along the seabed
-                        // where it steps a layer.
+                        // where it steps a layer. A diagonal step needs the face to recede
+                        // along both axes too: a sloped side that ends at a vertical end face
+                        // recedes diagonally at the corner, but the end does not slope.
                         if (label_[nl] == -6 && !(dz == 1 && dx == 0 && dy == 0) &&
-                            !(dz == 1 && recedingFoot(map, c, dx, dy)))
+                            !(dz == 1 && recedingFoot(map, c, dx, dy) &&
+                              (dx == 0 || dy == 0 || (recedingFoot(map, c, dx, 0) && recedingFoot(map, c, 0, dy)))))
                             continue;
                         // FLS-only voxels stay within one layer of that top
                         // (fls_only_not_above_ps_top): above it, elevation aliases.

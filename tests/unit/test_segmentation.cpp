@@ -560,35 +560,36 @@ TEST(SegmentationEchoField, TheVoxelTheSeabedRunsThroughIsTheBaseWhereverTheSeab
 
 
 // A sloped face runs down and out through the voxel the seabed runs through:
-// on a stepped pyramid (each layer one voxel narrower per side) the base in
-// that voxel is one voxel wider than the layer above it, and joins diagonally
-// from the face's foot, which recedes one voxel per layer over the three
-// layers above (base_follows_sloped_faces). Found on the pyramid at
-// 5 m, whose missed visible voxels were 74 of 78 that ring. A vertical wall
-// keeps joining straight down (the block test above), and seabed voxels never
-// make a speck big enough to be an object.
+// on a ridge whose long sides step in one voxel per layer, the base in that
+// voxel is one voxel wider than the layer above it, and joins diagonally from
+// the face's foot, which recedes one voxel per layer over the three layers
+// above (base_follows_sloped_faces). Found on the pyramid at 5 m, whose missed
+// visible voxels were 74 of 78 that ring. The ridge's vertical ends, and the
+// vertical block of the test above, keep joining straight down; seabed voxels
+// never make a speck big enough to be an object.
 TEST(SegmentationEchoField, TheBaseOfASlopedFaceReachesOneVoxelOutInTheSeabedVoxel) {
-    const auto build = [](VoxelMap& m, int lo, int hi) {
+    // x_lo..x_hi wide at layer 79, one voxel narrower per side per layer up to
+    // five layers; y_lo..y_hi long with vertical ends. Echoes on its top.
+    const auto build = [](VoxelMap& m, int x_lo, int x_hi, int y_lo, int y_hi) {
         m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // origin z 15: layer k spans 15 + 0.1 k .. + 0.1
-        const auto inside = [&](int ix, int iy) { return ix >= lo && ix <= hi && iy >= lo && iy <= hi; };
+        const auto inside = [&](int ix, int iy) { return ix >= x_lo && ix <= x_hi && iy >= y_lo && iy <= y_hi; };
         for (int iy = 0; iy < 100; ++iy)
             for (int ix = 0; ix < 100; ++ix) {
                 for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-                if (iy < 30 || iy >= 70 || inside(ix, iy)) continue;  // the PS swath; the pyramid hides its foot
+                if (iy < 20 || iy >= 80 || inside(ix, iy)) continue;  // the PS swath; the ridge hides its foot
                 for (int e = 0; e < 3; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
                 m.addPsEcho(m.linear({ix, iy, 79}));  // in the water voxel above: the 2-degree beam
             }
-        for (int iy = lo; iy <= hi; ++iy)  // steps of one voxel per layer from layer 79 up, echoes on top
-            for (int ix = lo; ix <= hi; ++ix) {
-                const int step = std::min(std::min(ix - lo, hi - ix), std::min(iy - lo, hi - iy));
-                const int top = 79 - step;
+        for (int iy = y_lo; iy <= y_hi; ++iy)
+            for (int ix = x_lo; ix <= x_hi; ++ix) {
+                const int top = 79 - std::min(4, std::min(ix - x_lo, x_hi - ix));
                 for (int iz = top; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
                 for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, top}));
             }
     };
-    const auto objectVoxels = [&](bool rule, int lo, int hi, int min_voxels = 10) {
+    const auto objectVoxels = [&](bool rule, int x_lo, int x_hi, int y_lo, int y_hi, int min_voxels = 10) {
         VoxelMap m{MapConfig{}};
-        build(m, lo, hi);
+        build(m, x_lo, x_hi, y_lo, y_hi);
         SegmentationConfig cfg;
         cfg.base_follows_sloped_faces = rule;
         cfg.min_object_voxels = min_voxels;
@@ -596,18 +597,21 @@ TEST(SegmentationEchoField, TheBaseOfASlopedFaceReachesOneVoxelOutInTheSeabedVox
         const SegmentationStats& st = seg.run(m);
         return st.objects == 1 ? seg.objects()[0].voxel_count : -st.objects;
     };
-    const int pyramid = 10 * 10 + 8 * 8 + 6 * 6 + 4 * 4 + 2 * 2;  // layers 79..75, ix/iy 45..54 at the foot
-    EXPECT_EQ(objectVoxels(false, 45, 54), pyramid + 10 * 10) << "the old rule: the base straight down only";
-    EXPECT_EQ(objectVoxels(true, 45, 54), pyramid + 12 * 12) << "the base one voxel wider than the foot";
+    const int ridge = 20 * (10 + 8 + 6 + 4 + 2);  // layers 79..75, ix 45..54, iy 40..59
+    EXPECT_EQ(objectVoxels(false, 45, 54, 40, 59), ridge + 10 * 20) << "the old rule: the base straight down only";
+    // Both long sides one voxel wider; nothing past the vertical ends, not
+    // even at the corners, where the side recedes diagonally but the end
+    // does not recede along y.
+    EXPECT_EQ(objectVoxels(true, 45, 54, 40, 59), ridge + 10 * 20 + 2 * 20) << "the base one voxel wider than the foot";
     // Three layers (0.3 m) of steps are no face the rule trusts: a bar's end,
     // blurred by a voxel, looks as much like one.
-    EXPECT_EQ(objectVoxels(true, 45, 50), 6 * 6 + 4 * 4 + 2 * 2 + 6 * 6);
-    // A group of 3 x 3 + 1 voxels above the seabed, under a bar of 11, stays
+    EXPECT_EQ(objectVoxels(true, 45, 50, 40, 59), 20 * (6 + 4 + 2) + 6 * 20);
+    // A group of 3 x 3 + 3 voxels above the seabed, under a bar of 13, stays
     // no object: the 9 seabed voxels under it do not count toward that bar
-    // (the old rule counted them: 19 voxels).
-    EXPECT_EQ(objectVoxels(false, 45, 47, 11), 19);
-    EXPECT_EQ(objectVoxels(true, 45, 47, 11), 0);
-    EXPECT_EQ(objectVoxels(true, 45, 47, 10), 19);
+    // (the old rule counted them: 21 voxels).
+    EXPECT_EQ(objectVoxels(false, 45, 47, 45, 47, 13), 21);
+    EXPECT_EQ(objectVoxels(true, 45, 47, 45, 47, 13), 0);
+    EXPECT_EQ(objectVoxels(true, 45, 47, 45, 47, 12), 21);
 }
 
 // Outside the PS swath the FLS alone sees an object's far side. Where its

@@ -308,14 +308,15 @@ struct SegmentationConfig {
     // joins only from the layer above.
     bool low_echoes_seen_above_seabed = true;
     // The foot of a sloped face reaches one voxel further out in the voxel the
-    // seabed runs through: that voxel joins an object diagonally from the
+    // seabed runs through: that voxel joins an object one step across from the
     // object's voxel in the layer above it when the map shows a face receding
-    // one voxel per layer over the three layers above (a staircase of occupied
-    // voxels, each with nothing on it but the top one), so the face slopes on
-    // down and out through the seabed voxel. A vertical wall has itself above
-    // its lowest voxel; a rounded body's undercut foot and a low bar's end make
-    // no such staircase: they keep joining only straight down. The seabed voxels
-    // an object holds do not count toward min_object_voxels (docs/algorithm.md,
+    // from there one voxel per layer over the three layers above (a staircase
+    // of occupied voxels, each with nothing on it but the top one; a diagonal
+    // step needs it along x and y as well), so the face slopes on down and out
+    // through the seabed voxel. A vertical wall has itself above its lowest
+    // voxel; a rounded body's undercut foot and a low bar's end make no such
+    // staircase: they keep joining only straight down. The seabed voxels an
+    // object holds do not count toward min_object_voxels (docs/algorithm.md,
     // "The foot of a sloped face"). False: the seabed voxel joins only
     // straight down and counts.
     bool base_follows_sloped_faces = true;
