@@ -404,23 +404,26 @@ bool Segmenter::confirmedByPs(const VoxelMap& map, std::size_t voxel) const {
 
 // base_follows_sloped_faces: c, above the seabed's own voxel, is the foot of a
 // face that recedes upward in the direction (-dx, -dy) one voxel per layer over
-// three layers (0.3 m of face at 0.1 m voxels): nothing occupied stands on c,
-// and the voxels k layers up and k steps back (k = 1, 2, 3) are occupied, the
-// first two with nothing on them. The face then slopes on down and out through
-// the seabed voxel (c + dx, dy, +1). A vertical wall, a rounded body's undercut
-// foot and a bar's blurred end (the frame's crossbars, 0.35 m) make no such
-// staircase.
+// three layers (0.3 m of face at 0.1 m voxels): the voxels k layers up and k
+// steps back (k = 1, 2, 3) are occupied, and nothing occupied stands on c or on
+// the first two of them. The face then slopes on down and out through the
+// seabed voxel (c + dx, dy, +1). A diagonal step needs the same along x and
+// along y: a sloped side that ends at a vertical end face recedes diagonally at
+// the corner, but the end does not slope. A vertical wall, a rounded body's
+// undercut foot and a bar's blurred end (the frame's crossbars, 0.35 m) make no
+// such staircase.
 bool Segmenter::recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, int dy) const {
     if (c.z < 3 || !aboveBaseline(map, map.linear(c), 0.5 * map.resolution())) return false;
-    const VoxelIndex up{c.x, c.y, c.z - 1};
-    const VoxelIndex back{c.x - dx, c.y - dy, c.z - 1};
-    const VoxelIndex back_up{c.x - dx, c.y - dy, c.z - 2};
-    const VoxelIndex back2{c.x - 2 * dx, c.y - 2 * dy, c.z - 2};
-    const VoxelIndex back2_up{c.x - 2 * dx, c.y - 2 * dy, c.z - 3};
-    const VoxelIndex back3{c.x - 3 * dx, c.y - 3 * dy, c.z - 3};
-    if (!map.contains(back) || !map.contains(back3)) return false;
-    return !occupied_[map.linear(up)] && occupied_[map.linear(back)] && !occupied_[map.linear(back_up)] &&
-           occupied_[map.linear(back2)] && !occupied_[map.linear(back2_up)] && occupied_[map.linear(back3)];
+    const auto staircase = [&](int sx, int sy) {
+        if (!map.contains({c.x - 3 * sx, c.y - 3 * sy, c.z - 3})) return false;  // the far end; x, y monotone
+        for (int k = 0; k < 3; ++k) {
+            const VoxelIndex step{c.x - k * sx, c.y - k * sy, c.z - k};
+            const VoxelIndex next{step.x - sx, step.y - sy, step.z - 1};
+            if (occupied_[map.linear({step.x, step.y, step.z - 1})] || !occupied_[map.linear(next)]) return false;
+        }
+        return true;
+    };
+    return staircase(dx, dy) && (dx == 0 || dy == 0 || (staircase(dx, 0) && staircase(0, dy)));
 }
 
 void Segmenter::label(const VoxelMap& map) {
@@ -515,15 +518,12 @@ void Segmenter::label(const VoxelMap& map) {
                         // object: under its top, where the PS is shadowed.
                         if (label_[nl] == -4 && !(dz == 1 && dx == 0 && dy == 0)) continue;
                         // The voxel the seabed runs through (-6) joins straight down, and
-                        // diagonally down from the foot of a face that recedes upward
+                        // one step across from the foot of a face that recedes upward
                         // (base_follows_sloped_faces). Only from a voxel above the
                         // seabed's own voxel, so the join never walks along the seabed
-                        // where it steps a layer. A diagonal step needs the face to recede
-                        // along both axes too: a sloped side that ends at a vertical end face
-                        // recedes diagonally at the corner, but the end does not slope.
+                        // where it steps a layer.
                         if (label_[nl] == -6 && !(dz == 1 && dx == 0 && dy == 0) &&
-                            !(dz == 1 && recedingFoot(map, c, dx, dy) &&
-                              (dx == 0 || dy == 0 || (recedingFoot(map, c, dx, 0) && recedingFoot(map, c, 0, dy)))))
+                            !(dz == 1 && recedingFoot(map, c, dx, dy)))
                             continue;
                         // FLS-only voxels stay within one layer of that top
                         // (fls_only_not_above_ps_top): above it, elevation aliases.
