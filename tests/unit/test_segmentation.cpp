@@ -526,6 +526,24 @@ TEST(SegmentationEchoField, ColumnsMixingALowObjectsEchoesDoNotLiftTheSeabed) {
     EXPECT_EQ(old.stats().objects, 0) << "the bar's top layer lies in the low band: nothing seeds it";
 }
 
+namespace {
+// A flat seabed (occupied layers 80..83, origin z 15) whose PS echoes put it at
+// 23.025 m: 3 echoes per voxel in layer 80 and 1 in the water voxel above (the
+// 2-degree beam), across the PS swath iy swath_lo .. swath_hi - 1, except
+// where `hidden(ix, iy)` (an object hides its foot).
+template <typename Hidden>
+void buildEchoedSeabed(VoxelMap& m, int swath_lo, int swath_hi, Hidden hidden) {
+    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // origin z 15: layer k spans 15 + 0.1 k .. + 0.1
+    for (int iy = 0; iy < 100; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+            if (iy < swath_lo || iy >= swath_hi || hidden(ix, iy)) continue;
+            for (int e = 0; e < 3; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
+            m.addPsEcho(m.linear({ix, iy, 79}));
+        }
+}
+}  // namespace
+
 // The voxel the seabed surface runs through is an object's base under its
 // footprint wherever in that voxel the surface lies. Here the echoes put the
 // seabed at 23.025 m, in the upper half of layer 80 (23.0-23.1 m): an object
@@ -536,15 +554,8 @@ TEST(SegmentationEchoField, ColumnsMixingALowObjectsEchoesDoNotLiftTheSeabed) {
 // Beside the object the same voxels stay seabed: they join straight down only.
 TEST(SegmentationEchoField, TheVoxelTheSeabedRunsThroughIsTheBaseWhereverTheSeabedLiesInIt) {
     VoxelMap m{MapConfig{}};
-    m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // origin z 15: layer k spans 15 + 0.1 k .. + 0.1
-    const auto under_block = [](int ix, int iy) { return ix >= 45 && ix < 51 && iy >= 45 && iy < 51; };
-    for (int iy = 0; iy < 100; ++iy)
-        for (int ix = 0; ix < 100; ++ix) {
-            for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-            if (iy < 30 || iy >= 70 || under_block(ix, iy)) continue;  // the PS swath; the block hides its foot
-            for (int e = 0; e < 3; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
-            m.addPsEcho(m.linear({ix, iy, 79}));  // in the water voxel above: the 2-degree beam
-        }
+    // The PS swath iy 30..69; the block hides its foot.
+    buildEchoedSeabed(m, 30, 70, [](int ix, int iy) { return ix >= 45 && ix < 51 && iy >= 45 && iy < 51; });
     for (int ix = 45; ix < 51; ++ix)  // a 0.5 m block, layers 75..79, echoes on its top
         for (int iy = 45; iy < 51; ++iy) {
             for (int iz = 75; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
@@ -571,15 +582,8 @@ TEST(SegmentationEchoField, TheBaseOfASlopedFaceReachesOneVoxelOutInTheSeabedVox
     // x_lo..x_hi wide at layer 79, one voxel narrower per side per layer up to
     // five layers; y_lo..y_hi long with vertical ends. Echoes on its top.
     const auto build = [](VoxelMap& m, int x_lo, int x_hi, int y_lo, int y_hi) {
-        m.initialiseAt(Eigen::Vector3d(0.0, 0.0, 20.0));  // origin z 15: layer k spans 15 + 0.1 k .. + 0.1
-        const auto inside = [&](int ix, int iy) { return ix >= x_lo && ix <= x_hi && iy >= y_lo && iy <= y_hi; };
-        for (int iy = 0; iy < 100; ++iy)
-            for (int ix = 0; ix < 100; ++ix) {
-                for (int iz = 80; iz < 84; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
-                if (iy < 20 || iy >= 80 || inside(ix, iy)) continue;  // the PS swath; the ridge hides its foot
-                for (int e = 0; e < 3; ++e) m.addPsEcho(m.linear({ix, iy, 80}));
-                m.addPsEcho(m.linear({ix, iy, 79}));  // in the water voxel above: the 2-degree beam
-            }
+        // The PS swath iy 20..79; the ridge hides its foot.
+        buildEchoedSeabed(m, 20, 80, [&](int ix, int iy) { return ix >= x_lo && ix <= x_hi && iy >= y_lo && iy <= y_hi; });
         for (int iy = y_lo; iy <= y_hi; ++iy)
             for (int ix = x_lo; ix <= x_hi; ++ix) {
                 const int top = 79 - std::min(4, std::min(ix - x_lo, x_hi - ix));
