@@ -59,6 +59,7 @@ DaemonConfig parse(const YAML::Node& root) {
     fls.rejectUnknownKeys();
     Fields ps(top.child("ps"), "ps");
     config_yaml::readPsGeometry(ps, m.ps);
+    ps.readDegrees("beam_width_vertical_deg", m.ps.beam_width_vertical);  // the mapper's only
     config_yaml::readMounting(ps.child("mount"), "ps.mount", m.ps_mount);
     ps.rejectUnknownKeys();
 
@@ -113,6 +114,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("risen_capacity", m.detector.risen_capacity);
     det.read("rise_from_lower_envelope", m.detector.rise_from_lower_envelope);
     det.read("judge_early_echoes", m.detector.judge_early_echoes);
+    det.read("nearest_echo_sigmas", m.detector.nearest_echo_sigmas);
     det.read("replay_pings", m.detector.replay_pings);
     det.rejectUnknownKeys();
 

@@ -71,6 +71,8 @@ Check PsGeometry::validate() const {
         return bad("range_max", "must be above range_min and <= 1000 m");
     if (!inRange(bins, 2, kMaxPsBins)) return bad("bins", range(2, kMaxPsBins));
     if (!inRange(fan_samples, 1, 1024)) return bad("fan_samples", range(1, 1024));
+    if (!finite(beam_width_vertical) || beam_width_vertical < 0.0 || beam_width_vertical > 30.0 * kDegToRad)
+        return bad("beam_width_vertical_deg", "must be finite, in [0, 30]");
     return std::nullopt;
 }
 
@@ -138,6 +140,8 @@ Check DetectorConfig::validate() const {
     if (!inRange(min_risen_echoes, 1, risen_capacity))
         return bad("min_risen_echoes", "must be in 1..risen_capacity (" + std::to_string(risen_capacity) + ")");
     if (!inRange(replay_pings, 0, 65536)) return bad("replay_pings", range(0, 65536));
+    if (!(nearest_echo_sigmas >= 0.0 && nearest_echo_sigmas <= 100.0))
+        return bad("nearest_echo_sigmas", "must be in [0, 100] (0: the strongest bin only)");
     return std::nullopt;
 }
 

@@ -421,11 +421,24 @@ Outcome Mapper::addPs(const PsPing& ping) {
     // Paper 2.1: the strongest echo of the ping feeds the rising-edge detector,
     // which stays armed for the next object (survey mode).
     const std::optional<int> peak = maxIntensityBin(ping, cfg_.ps_selection);
-    if (peak) {
-        const Eigen::Vector3d echo =
-            world_from_sensor * (rangeOfBin(ping, *peak) * ps_model_.centreDirection(ping.head_angle));
-        if (detector_.addEchoPoint(echo)) onDetection(*detector_.detection());
-    }
+    // DetectorConfig::nearest_echo_sigmas: the ping's nearest echo, when nearer than its strongest.
+    const int nearest_bin = cfg_.detector.nearest_echo_sigmas > 0.0
+                                ? firstEchoBin(ping, cfg_.ps_selection, cfg_.detector.nearest_echo_sigmas)
+                                : -1;
+    const bool nearer = nearest_bin >= 0 && (!peak || nearest_bin < *peak);
+    auto pointAt = [&](int bin, double head) {
+        return world_from_sensor * (rangeOfBin(ping, bin) * ps_model_.centreDirection(head));
+    };
+    // The nearest echo goes on the fan's steepest edge: a level seabed returns
+    // first from there, so its own leading edge does not rise.
+    const double steepest = ping.head_angle + 0.5 * cfg_.ps.beam_width_vertical;
+    bool declared = false;
+    if (peak)
+        declared = nearer ? detector_.addEchoPoint(pointAt(*peak, ping.head_angle), pointAt(nearest_bin, steepest))
+                          : detector_.addEchoPoint(pointAt(*peak, ping.head_angle));
+    else if (nearer)
+        declared = detector_.addNearestEcho(pointAt(nearest_bin, steepest));
+    if (declared) onDetection(*detector_.detection());
     if (any ? !group : !peak) return count(Outcome::PsNoEcho);
     ++counters_.ps_used;
     return count(Outcome::Used);

@@ -236,7 +236,21 @@ bool ObjectDetector::judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit
     return false;
 }
 
-bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
+bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) { return addEcho(p, nullptr); }
+
+bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& nearest) {
+    return addEcho(p, nearest.allFinite() ? &nearest : nullptr);
+}
+
+bool ObjectDetector::addNearestEcho(const Eigen::Vector3d& nearest) {
+    if (!nearest.allFinite()) return false;
+    const std::optional<SeabedFit> seabed = seabedAt(nearest.head<2>());
+    if (!seabed || !risesAbove(nearest, *seabed)) return false;
+    addRisen(nearest);
+    return declareAround(nearest.head<2>());
+}
+
+bool ObjectDetector::addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest) {
     if (!p.allFinite()) return false;
     const Eigen::Vector2d xy = p.head<2>();
     last_xy_ = xy;
@@ -251,7 +265,11 @@ bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) {
         // A seabed echo (risen echoes never enter the fit, so an object cannot
         // drag the seabed up to itself).
         addSeabed(p, EchoState::Seabed);
-        return early;
+        if (nearest == nullptr || !risesAbove(*nearest, *seabed)) return early;
+        // The strongest echo was the seabed's; a nearer one above it is an
+        // object the seabed outshone (one risen echo per ping, as before).
+        addRisen(*nearest);
+        return early || declareAround(nearest->head<2>());
     }
     addRisen(p);
     // One declaration per echo: a cluster this echo completes declares with the next.

@@ -39,6 +39,8 @@ const BadValue kBadValues[] = {
     {"Ps_fan_reversed", [](MapperConfig& c) { c.ps.fan_max = c.ps.fan_min - 0.1; }, "ps.fan_max_deg"},
     {"Ps_head_reversed", [](MapperConfig& c) { c.ps.head_max = c.ps.head_min - 0.1; }, "ps.head_max_deg"},
     {"Ps_fan_samples0", [](MapperConfig& c) { c.ps.fan_samples = 0; }, "ps.fan_samples"},
+    {"Ps_beam_width_negative", [](MapperConfig& c) { c.ps.beam_width_vertical = -0.01; }, "ps.beam_width_vertical_deg"},
+    {"Ps_beam_width_nan", [](MapperConfig& c) { c.ps.beam_width_vertical = NAN; }, "ps.beam_width_vertical_deg"},
     {"Map_nx0", [](MapperConfig& c) { c.map.nx = 0; }, "map.nx"},
     {"Map_ny5000", [](MapperConfig& c) { c.map.ny = 5000; }, "map.ny"},
     {"Map_nz_negative", [](MapperConfig& c) { c.map.nz = -1; }, "map.nz"},
@@ -74,6 +76,8 @@ const BadValue kBadValues[] = {
     {"PsSelection_peak", [](MapperConfig& c) { c.ps_selection.min_peak_intensity = -1; },
      "ps_selection.min_peak_intensity"},
     {"Detector_radius", [](MapperConfig& c) { c.detector.seabed_radius = 0.0; }, "detector.seabed_radius"},
+    {"Detector_nearest_sigmas_negative", [](MapperConfig& c) { c.detector.nearest_echo_sigmas = -1.0; },
+     "detector.nearest_echo_sigmas"},
     // The detector's constructor needs min_rise > 0 and at most 2^16 risen echoes;
     // validateConfig used to accept 0 and 10^6 (sf-mapper then exited 1, no key).
     {"Detector_min_rise0", [](MapperConfig& c) { c.detector.min_rise = 0.0; }, "detector.min_rise"},

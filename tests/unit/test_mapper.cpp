@@ -158,3 +158,53 @@ TEST(Mapper, AMapAnchoredLateHoldsThePingsThatFoundTheObject) {
     EXPECT_GT(differ_unheld, 100);
     EXPECT_GT(observed_late, observed_unheld);
 }
+
+// DetectorConfig::nearest_echo_sigmas. A post 0.6 m tall stands in the PS fan,
+// but the seabed, echoing across the whole fan at one range, is every ping's
+// strongest bin: paper 2.1's maximum never rises. The post's weaker echo
+// comes first in range, and in the tilted fan nothing but a surface above the
+// seabed returns from nearer than the seabed does. The seabed itself returns
+// first from the fan's steepest edge (PsGeometry::beam_width_vertical): its
+// leading edge, placed on the centre line, would stand up to 0.14 m high at
+// the sector's shallow end; placed on that edge, it does not rise.
+TEST(Mapper, ANarrowObjectTheSeabedOutshinesIsDetectedFromItsNearerEcho) {
+    auto run = [](double sigmas, double beam_width_deg, bool post) {
+        MapperConfig cfg;
+        cfg.detector.nearest_echo_sigmas = sigmas;
+        cfg.ps.beam_width_vertical = beam_width_deg * kDeg;
+        Mapper mapper(cfg);
+        const double post_x = 2.0, post_top = 19.4, seabed = 20.0;
+        for (int i = 0; i < 1400; ++i) {
+            const int64_t t = 1000000 + i * 50000LL;
+            const TimedPose nav = test::trackPose(t, -6.0 + 0.005 * i);
+            mapper.addNav(nav);
+            const int phase = i % 80;
+            const double head = (phase < 40 ? -20 + phase : 60 - phase) * kDeg;
+            test::OwnedPing ping = test::blankPing(500, 10.0, t, head);
+            const Eigen::Isometry3d s = sensorToWorld(nav.pose, Mounting{});
+            const Eigen::Vector3d d = s.linear() * mapper.psModel().centreDirection(head);
+            const Eigen::Vector3d steep = s.linear() * mapper.psModel().centreDirection(head + 1.0 * kDeg);
+            auto mark = [&](double r, uint8_t strongest, uint8_t beside) {
+                const int bin = static_cast<int>(std::lround(r / 10.0 * 499));
+                if (bin < 1 || bin > 498) return;
+                for (int b = bin - 1; b <= bin + 1; ++b) ping.bins[b] = std::max(ping.bins[b], b == bin ? strongest : beside);
+            };
+            const double depth = seabed - s.translation().z();
+            mark(depth / steep.z(), 60, 50);  // the seabed's leading edge: the 2 deg fan's steepest rays
+            mark(depth / d.z(), 240, 200);    // the seabed, across the fan
+            const double r_post = (post_x - s.translation().x()) / d.x();
+            const double z_post = s.translation().z() + r_post * d.z();
+            if (post && r_post > 0.0 && z_post >= post_top && z_post <= seabed) mark(r_post, 70, 60);  // a few rays
+            mapper.addPs(ping.view);
+        }
+        return mapper.counters().map_initialisations > 0 ? std::optional<Eigen::Vector3d>(mapper.map().centre())
+                                                         : std::nullopt;
+    };
+    EXPECT_FALSE(run(0.0, 2.0, true).has_value());  // the strongest bin only (paper 2.1)
+    const std::optional<Eigen::Vector3d> centre = run(4.0, 2.0, true);
+    ASSERT_TRUE(centre.has_value());
+    EXPECT_NEAR(centre->x(), 2.0, 0.2);  // anchored on the post
+    EXPECT_NEAR(centre->y(), 0.0, 0.2);
+    EXPECT_FALSE(run(4.0, 2.0, false).has_value());  // the seabed alone: nothing
+    EXPECT_TRUE(run(4.0, 0.0, false).has_value());   // its leading edge on the centre line rises
+}

@@ -307,3 +307,31 @@ TEST(ObjectDetector, TheFootprintSeabedFollowsASlope) {
     EXPECT_LT(f->rms, 0.05);
     EXPECT_GT(f->rms, 0.015);  // the seabed's own scatter, both sides, not the lower half's
 }
+
+// DetectorConfig::nearest_echo_sigmas, the detector's side: a ping's nearer
+// echo is judged against the plane its strongest (seabed) echo was, counts as
+// its one risen echo, and never joins the seabed's fits.
+TEST(ObjectDetector, ANearerEchoRisesWhereTheStrongestIsTheSeabeds) {
+    ObjectDetector with{DetectorConfig{}}, without{DetectorConfig{}};
+    int fired = -1;
+    for (int i = 0; i < 300; ++i) {
+        const Eigen::Vector3d seabed(i * 0.01, 0.0, 20.0 + 0.01 * std::sin(i * 0.7));
+        const bool over_post = i >= 200;
+        // Over the post: the nearer echo stands 0.5 m up; elsewhere it is the
+        // seabed's own leading edge, 2 cm up (under the rise threshold).
+        const Eigen::Vector3d nearer(2.0, 0.0, over_post ? 19.5 : seabed.z() - 0.02);
+        if (with.addEchoPoint(seabed, nearer) && fired < 0) fired = i;
+        EXPECT_FALSE(without.addEchoPoint(seabed));
+    }
+    EXPECT_EQ(fired, 204);  // the fifth ping over the post
+    ASSERT_TRUE(with.detection().has_value());
+    EXPECT_NEAR(with.detection()->z(), 19.5, 1e-9);
+    // The seabed under the newest echo is the seabed's, not lifted toward the post.
+    EXPECT_NEAR(*with.baseline(), 20.0, 0.02);
+    // With no strongest echo at all, a nearest echo that rises still counts.
+    ObjectDetector weak{DetectorConfig{}};
+    for (int i = 0; i < 200; ++i) EXPECT_FALSE(weak.addEchoPoint(Eigen::Vector3d(i * 0.01, 0.0, 20.0)));
+    for (int i = 0; i < 4; ++i) EXPECT_FALSE(weak.addNearestEcho(Eigen::Vector3d(2.0, 0.0, 19.5)));
+    EXPECT_FALSE(weak.addNearestEcho(Eigen::Vector3d(1.9, 0.0, 19.99)));  // not risen
+    EXPECT_TRUE(weak.addNearestEcho(Eigen::Vector3d(2.0, 0.0, 19.5)));
+}

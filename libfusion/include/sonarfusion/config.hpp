@@ -62,6 +62,11 @@ struct PsGeometry {
     double range_max = 10.0;             // m, range of the last bin
     int bins = 500;                      // range bins per ping (2 cm)
     int fan_samples = 21;                // N_h
+    // The fan's thickness (its thin, vertical direction; the 881A-like sensor
+    // the simulator models: 2 deg). A return may come from anywhere across it;
+    // the detector places a ping's nearest echo on the fan's steepest edge,
+    // where a level seabed returns first (DetectorConfig::nearest_echo_sigmas).
+    double beam_width_vertical = 2.0 * kDegToRad;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `ps` block
 };
 
@@ -243,6 +248,18 @@ struct DetectorConfig {
     // because the held far-look pings add echoes above the seabed beside an
     // object (docs/algorithm.md, "A mission that starts close to an object").
     int replay_pings = 0;
+    // A ping's nearest echo rises too: in the PS's tilted fan every bearing
+    // meets a level seabed at the same range, so a return nearer than the
+    // seabed's comes from above it, however weak. Paper 2.1 takes only the
+    // strongest bin, which a narrow object loses to the seabed echoing across
+    // the whole fan (a barrier 0.5 m off the track at 5 m altitude: 1 ping of
+    // 1300). When the strongest echo does not rise (or the ping has none), the
+    // nearest bin that could be an echo (firstEchoBin: it and the next stand
+    // this many robust sigmas above the ping's median) is judged against the
+    // same plane, and counts as the ping's risen echo if it rises; it never
+    // enters the seabed's fits. 0: the strongest bin only (paper)
+    // (docs/algorithm.md, "Narrow objects lose the strongest bin to the seabed").
+    double nearest_echo_sigmas = 4.0;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `detector` block
 };
 

@@ -24,6 +24,14 @@ public:
     // object (detection() is then its position). The detector stays armed: the
     // declaring cluster's echoes are spent and later clusters declare again.
     bool addEchoPoint(const Eigen::Vector3d& p);
+    // The same for a ping whose nearest echo `nearest` lies nearer than its
+    // strongest `p` (DetectorConfig::nearest_echo_sigmas): when p does not
+    // rise, nearest is judged against the plane p was judged against and, if
+    // it rises, is the ping's risen echo; it never enters the seabed's fits.
+    bool addEchoPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& nearest);
+    // A ping with no strongest echo (none above min_peak_intensity): its
+    // nearest echo counts only if it rises above the plane around it.
+    bool addNearestEcho(const Eigen::Vector3d& nearest);
     void reset();
     void saveState(StateWriter& w) const;
     [[nodiscard]] bool loadState(StateReader& r);
@@ -75,6 +83,7 @@ private:
     bool judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit& plane);
     // Declares an object when enough risen echoes lie within cluster_radius of xy.
     bool declareAround(const Eigen::Vector2d& xy);
+    bool addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest);
 
     DetectorConfig cfg_;
     std::vector<Eigen::Vector3d> seabed_;  // ring of seabed echoes
