@@ -115,6 +115,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("rise_from_lower_envelope", m.detector.rise_from_lower_envelope);
     det.read("judge_early_echoes", m.detector.judge_early_echoes);
     det.read("nearest_echo_sigmas", m.detector.nearest_echo_sigmas);
+    det.read("fls_nearer_than_seabed", m.detector.fls_nearer_than_seabed);
     det.read("replay_pings", m.detector.replay_pings);
     det.rejectUnknownKeys();
 

@@ -1,5 +1,7 @@
 #include "sonarfusion/mapper.hpp"
 
+#include "sonarfusion/fls_detection.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -335,39 +337,48 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     const Eigen::Isometry3d world_from_sensor = sensorToWorld(pose, cfg_.fls_mount);
     bool any = false;
     for (int s = 0; s < slotCount() && !any; ++s) any = updatable(s);
-    if (!any) return count(Outcome::FlsBeforeMap);
+    const bool detect = cfg_.detector.fls_nearer_than_seabed;
+    if (!any && !detect) return count(Outcome::FlsBeforeMap);
     // The frame's geometry: the configured one (no geometry given, or the same),
     // else a cached one (tables computed once per geometry, LRU).
     int geometry = 0;
     double range_max = cfg_.fls.range_max;
     if (frame.hasGeometry() && !fls_model_.sameGeometry(frame)) {
         geometry = flsGeometrySlot(frame);
-        if (geometry == -1) return count(Outcome::FlsGeometryNotCached);
-        if (geometry < 0) return count(Outcome::FlsBadGeometry);
+        if (geometry == -1) return count(any ? Outcome::FlsGeometryNotCached : Outcome::FlsBeforeMap);
+        if (geometry < 0) return count(any ? Outcome::FlsBadGeometry : Outcome::FlsBeforeMap);
         range_max = fls_models_[static_cast<std::size_t>(geometry) - 1].rangeMax();
     }
-    fls_updater_.select(geometry);
-    // The seabed the FLS judges its returns against: the detector's plane
-    // where the FLS boresight meets the seabed (UpdateConfig::
-    // fls_seabed_at_footprint); the plane's gradient carries it across the fan.
-    if (cfg_.update.fls_seabed_at_footprint) {
-        const FlsModel& model = flsGeometryModel(geometry);
-        const double elevation = 0.5 * (model.elevationMin() + model.elevationMax());
-        const int right = model.cols() / 2, left = std::max(0, model.cols() - 1 - right);
-        const Eigen::Vector3d boresight =
-            world_from_sensor.linear() *
-            (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
-        fls_updater_.setSeabed(detector_.seabedAlongRay(world_from_sensor.translation(), boresight));
-    } else {
-        fls_updater_.setSeabed(detector_.seabedAtNewestEcho());
+    const FlsModel& model = flsGeometryModel(geometry);
+    // The detector's plane where the FLS boresight meets the seabed: the seabed
+    // the votes are judged against (UpdateConfig::fls_seabed_at_footprint; the
+    // plane's gradient carries it across the fan) and the detector's own.
+    const double elevation = 0.5 * (model.elevationMin() + model.elevationMax());
+    const int right = model.cols() / 2, left = std::max(0, model.cols() - 1 - right);
+    const Eigen::Vector3d boresight =
+        world_from_sensor.linear() *
+        (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
+    const std::optional<SeabedFit> footprint = detector_.seabedAlongRay(world_from_sensor.translation(), boresight);
+    if (any) {
+        fls_updater_.select(geometry);
+        fls_updater_.setSeabed(cfg_.update.fls_seabed_at_footprint ? footprint : detector_.seabedAtNewestEcho());
+        for (int s = 0; s < slotCount(); ++s) {
+            if (!updatable(s)) continue;
+            if (!reaches(s, world_from_sensor.translation(), range_max)) continue;
+            const FlsUpdateStats st = fls_updater_.apply(frame, world_from_sensor, maps_[static_cast<std::size_t>(s)]);
+            counters_.fls_points_outside_map += st.points_outside_map;
+            if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
+        }
     }
-    for (int s = 0; s < slotCount(); ++s) {
-        if (!updatable(s)) continue;
-        if (!reaches(s, world_from_sensor.translation(), range_max)) continue;
-        const FlsUpdateStats st = fls_updater_.apply(frame, world_from_sensor, maps_[static_cast<std::size_t>(s)]);
-        counters_.fls_points_outside_map += st.points_outside_map;
-        if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
+    // DetectorConfig::fls_nearer_than_seabed: after the maps, so a map this
+    // frame anchors starts with the next one (as for the PS).
+    if (detect && footprint) {
+        const double margin = 3.0 * footprint->rms + 0.5 * cfg_.map.resolution;
+        const std::optional<Eigen::Vector3d> risen = flsReturnNearerThanSeabed(
+            frame, model, world_from_sensor, *footprint, cfg_.update.fls_intensity_threshold, margin);
+        if (risen && detector_.addRisenEcho(*risen)) onDetection(*detector_.detection());
     }
+    if (!any) return count(Outcome::FlsBeforeMap);
     ++counters_.fls_used;
     return count(Outcome::Used);
 }

@@ -250,6 +250,12 @@ bool ObjectDetector::addNearestEcho(const Eigen::Vector3d& nearest) {
     return declareAround(nearest.head<2>());
 }
 
+bool ObjectDetector::addRisenEcho(const Eigen::Vector3d& p) {
+    if (!p.allFinite()) return false;
+    addRisen(p);
+    return declareAround(p.head<2>());
+}
+
 bool ObjectDetector::addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest) {
     if (!p.allFinite()) return false;
     const Eigen::Vector2d xy = p.head<2>();

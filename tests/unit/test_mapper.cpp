@@ -208,3 +208,41 @@ TEST(Mapper, ANarrowObjectTheSeabedOutshinesIsDetectedFromItsNearerEcho) {
     EXPECT_FALSE(run(4.0, 2.0, false).has_value());  // the seabed alone: nothing
     EXPECT_TRUE(run(4.0, 0.0, false).has_value());   // its leading edge on the centre line rises
 }
+
+// DetectorConfig::fls_nearer_than_seabed. A box 1 m tall lies 0.9-1.3 m beside
+// a track flown at 4.5 m; the PS (here: a PS that sees only the seabed) gives
+// no risen echo, but the FLS, whose fan is wider, sees the box's top from
+// nearer than any ray of the beam could meet the seabed.
+TEST(Mapper, AnObjectBesideThePsFanIsDetectedByTheFls) {
+    auto run = [](bool fls_detects, bool box) {
+        MapperConfig cfg;
+        cfg.detector.fls_nearer_than_seabed = fls_detects;
+        Mapper mapper(cfg);
+        test::BoxWorld world, seabed_only;
+        world.box_min = Eigen::Vector3d(-0.3, 0.9, 19.0);
+        world.box_max = Eigen::Vector3d(0.3, 1.3, 20.0);
+        seabed_only.box_min.x() += 1000.0;
+        seabed_only.box_max.x() += 1000.0;
+        if (!box) world = seabed_only;
+        for (int i = 0; i < 1400; ++i) {
+            const int64_t t = 1000000 + i * 50000LL;
+            const TimedPose nav = test::poseAt(t, -6.0 + 0.005 * i, 0.0, 20.0 - 4.5);
+            mapper.addNav(nav);
+            const int phase = i % 80;
+            const double head = (phase < 40 ? -20 + phase : 60 - phase) * kDeg;
+            auto ping = test::simulatePing(seabed_only, mapper.psModel(), nav.pose, t, head);
+            mapper.addPs(ping.view);
+            if (i % 4 == 0) {
+                auto frame = test::simulateFrame(world, mapper.config().fls, mapper.flsModel(), nav.pose, t);
+                mapper.addFls(frame.view);
+            }
+        }
+        return mapper.counters().map_initialisations > 0 ? std::optional<Eigen::Vector3d>(mapper.map().centre())
+                                                         : std::nullopt;
+    };
+    EXPECT_FALSE(run(false, true).has_value());  // the PS alone (the default)
+    const std::optional<Eigen::Vector3d> centre = run(true, true);
+    ASSERT_TRUE(centre.has_value());
+    EXPECT_LT((centre->head<2>() - Eigen::Vector2d(0.0, 1.1)).norm(), 1.0);  // anchored on the box
+    EXPECT_FALSE(run(true, false).has_value());  // the seabed alone: nothing
+}

@@ -260,6 +260,20 @@ struct DetectorConfig {
     // enters the seabed's fits. 0: the strongest bin only (paper)
     // (docs/algorithm.md, "Narrow objects lose the strongest bin to the seabed").
     double nearest_echo_sigmas = 4.0;
+    // FLS frames are evidence too: a frame holding pixels above the vote
+    // threshold from nearer than the seabed could return anywhere on their
+    // beams' elevation arcs (the detector's plane where the boresight meets
+    // the seabed, raised by 3 rms of its scatter and half a voxel, as for the
+    // votes the seabed cannot explain) saw something standing above it; the
+    // mean of those pixels, each on its arc's centre line, is one risen echo
+    // (one per frame). The PS fan is +-10 deg, the FLS's +-14.5: an object 1 m
+    // beside a track flown at 4.5 m returns to no PS ping from above the
+    // seabed and to a third of the FLS frames (docs/algorithm.md, "Objects
+    // beside the PS fan: the FLS detects"). Off by default: maps it anchors
+    // earlier take in the far looks of the first pass, which cost two probe
+    // scenarios more than it gained (the same section). False: the PS alone
+    // detects (paper).
+    bool fls_nearer_than_seabed = false;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `detector` block
 };
 

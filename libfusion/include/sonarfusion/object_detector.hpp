@@ -32,6 +32,10 @@ public:
     // A ping with no strongest echo (none above min_peak_intensity): its
     // nearest echo counts only if it rises above the plane around it.
     bool addNearestEcho(const Eigen::Vector3d& nearest);
+    // An echo another sensor already knows stands above the seabed (an FLS
+    // return from nearer than the seabed, DetectorConfig::fls_nearer_than_seabed):
+    // it joins the risen echoes as it is. True when it declares an object.
+    bool addRisenEcho(const Eigen::Vector3d& p);
     void reset();
     void saveState(StateWriter& w) const;
     [[nodiscard]] bool loadState(StateReader& r);
