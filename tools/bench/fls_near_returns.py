@@ -33,14 +33,10 @@ def main():
     a = ap.parse_args()
     T = lcmlog.types()
     for log in a.logs:
-        nav = None
         frames = with_near = pixels = 0
         cells = collections.Counter()
-        for _, _, channel, data in lcmlog.read_events(log):
-            if channel == "NAV":
-                nav = T.nav_state_t.decode(data)
-                continue
-            if channel != "FLS" or nav is None or nav.altitude <= 0:
+        for nav, data in lcmlog.with_latest_nav(log, "FLS"):
+            if nav.altitude <= 0:
                 continue
             m = T.fls_image_t.decode(data)
             frames += 1

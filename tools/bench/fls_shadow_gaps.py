@@ -36,12 +36,10 @@ def main():
     a = ap.parse_args()
     T = lcmlog.types()
     for log in a.logs:
-        hist, frames, altitude = {}, 0, None
-        for _, _, channel, data in lcmlog.read_events(log):
-            if channel == "NAV":
-                altitude = T.nav_state_t.decode(data).altitude
-                continue
-            if channel != "FLS" or altitude is None or altitude <= 0:
+        hist, frames = {}, 0
+        for nav, data in lcmlog.with_latest_nav(log, "FLS"):
+            altitude = nav.altitude
+            if altitude <= 0:
                 continue
             frames += 1
             if frames % a.every:

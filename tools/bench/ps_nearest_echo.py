@@ -52,14 +52,10 @@ def main():
     a = ap.parse_args()
     T = lcmlog.types()
     for log in a.logs:
-        nav = None
         pings = strongest = strongest_risen = nearest_risen = 0
         lifts = []
-        for _, _, channel, data in lcmlog.read_events(log):
-            if channel == "NAV":
-                nav = T.nav_state_t.decode(data)
-                continue
-            if channel != "PS" or nav is None or nav.altitude <= 0:
+        for nav, data in lcmlog.with_latest_nav(log, "PS"):
+            if nav.altitude <= 0:
                 continue
             m = T.ps_ping_t.decode(data)
             pings += 1

@@ -50,6 +50,18 @@ def read_events(path):
         off = p + clen + dlen
 
 
+def with_latest_nav(path, channel):
+    """Yields (nav, data) for every event on `channel` that comes after a NAV message: nav is the
+    latest NAV decoded (types().nav_state_t), data the event's raw bytes (decode what you use)."""
+    nav_t = types().nav_state_t
+    nav = None
+    for _, _, ch, data in read_events(path):
+        if ch == "NAV":
+            nav = nav_t.decode(data)
+        elif ch == channel and nav is not None:
+            yield nav, data
+
+
 class LogWriter:
     """Writes an LCM log to PATH atomically: to a temporary file beside it,
     renamed over PATH by commit(); abort() (or an exception inside `with`)
