@@ -358,7 +358,11 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     const Eigen::Vector3d boresight =
         world_from_sensor.linear() *
         (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
-    const std::optional<SeabedFit> footprint = detector_.seabedAlongRay(world_from_sensor.translation(), boresight);
+    // Fitted only where something uses it (two fits per frame).
+    const std::optional<SeabedFit> footprint =
+        detect || (any && cfg_.update.fls_seabed_at_footprint)
+            ? detector_.seabedAlongRay(world_from_sensor.translation(), boresight)
+            : std::nullopt;
     if (any) {
         fls_updater_.select(geometry);
         fls_updater_.setSeabed(cfg_.update.fls_seabed_at_footprint ? footprint : detector_.seabedAtNewestEcho());

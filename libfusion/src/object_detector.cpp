@@ -245,9 +245,7 @@ bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p, const Eigen::Vector3
 bool ObjectDetector::addNearestEcho(const Eigen::Vector3d& nearest) {
     if (!nearest.allFinite()) return false;
     const std::optional<SeabedFit> seabed = seabedAt(nearest.head<2>());
-    if (!seabed || !risesAbove(nearest, *seabed)) return false;
-    addRisen(nearest);
-    return declareAround(nearest.head<2>());
+    return seabed && risesAbove(nearest, *seabed) && addRisenEcho(nearest);
 }
 
 bool ObjectDetector::addRisenEcho(const Eigen::Vector3d& p) {

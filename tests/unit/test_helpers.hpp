@@ -121,6 +121,12 @@ struct BoxesWorld {
     }
 };
 
+// The PS head's angle at ping `i` of a sector scan from -20 to 20 deg and back, 1 deg per ping (rad).
+inline double sectorScanHead(int i) {
+    const int phase = i % 80;
+    return (phase < 40 ? -20 + phase : 60 - phase) * M_PI / 180.0;
+}
+
 // Vehicle at 3.12 m altitude heading north, `x` metres along track.
 inline TimedPose trackPose(int64_t utime, double x) { return poseAt(utime, x, 0.0, 20.0 - 3.12); }
 

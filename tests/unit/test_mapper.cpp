@@ -18,9 +18,7 @@ void runPass(Mapper& mapper, const test::BoxWorld& world, int steps, double star
         const int64_t t = 1000000 + i * 50000LL;
         const TimedPose nav = test::trackPose(t, start_x + 0.005 * i);
         mapper.addNav(nav);
-        // Sector scan -20..20 deg and back, 1 deg per ping.
-        const int phase = i % 80;
-        const double head = (phase < 40 ? -20 + phase : 60 - phase) * kDeg;
+        const double head = test::sectorScanHead(i);
         auto ping = test::simulatePing(world, mapper.psModel(), nav.pose, t, head);
         mapper.addPs(ping.view);
         if (i % 4 == 0) {
@@ -178,8 +176,7 @@ TEST(Mapper, ANarrowObjectTheSeabedOutshinesIsDetectedFromItsNearerEcho) {
             const int64_t t = 1000000 + i * 50000LL;
             const TimedPose nav = test::trackPose(t, -6.0 + 0.005 * i);
             mapper.addNav(nav);
-            const int phase = i % 80;
-            const double head = (phase < 40 ? -20 + phase : 60 - phase) * kDeg;
+            const double head = test::sectorScanHead(i);
             test::OwnedPing ping = test::blankPing(500, 10.0, t, head);
             const Eigen::Isometry3d s = sensorToWorld(nav.pose, Mounting{});
             const Eigen::Vector3d d = s.linear() * mapper.psModel().centreDirection(head);
@@ -228,8 +225,7 @@ TEST(Mapper, AnObjectBesideThePsFanIsDetectedByTheFls) {
             const int64_t t = 1000000 + i * 50000LL;
             const TimedPose nav = test::poseAt(t, -6.0 + 0.005 * i, 0.0, 20.0 - 4.5);
             mapper.addNav(nav);
-            const int phase = i % 80;
-            const double head = (phase < 40 ? -20 + phase : 60 - phase) * kDeg;
+            const double head = test::sectorScanHead(i);
             auto ping = test::simulatePing(seabed_only, mapper.psModel(), nav.pose, t, head);
             mapper.addPs(ping.view);
             if (i % 4 == 0) {

@@ -38,14 +38,12 @@ struct Pass {
 };
 template <class World>
 Pass preparePass(const World& world, const Mapper& mapper, int steps) {
-    constexpr double kDeg = M_PI / 180.0;
     Pass pass;
     for (int i = 0; i < steps; ++i) {
         const int64_t t = 1000000 + i * 50000LL;
         pass.navs.push_back(test::trackPose(t, -6.0 + 0.005 * i));
-        const int phase = i % 80;
-        pass.pings.push_back(test::simulatePing(world, mapper.psModel(), pass.navs.back().pose, t,
-                                                (phase < 40 ? -20 + phase : 60 - phase) * kDeg));
+        pass.pings.push_back(
+            test::simulatePing(world, mapper.psModel(), pass.navs.back().pose, t, test::sectorScanHead(i)));
         if (i % 4 == 0)
             pass.frames.push_back(
                 test::simulateFrame(world, mapper.config().fls, mapper.flsModel(), pass.navs.back().pose, t));

@@ -10,7 +10,6 @@
 using namespace sonarfusion;
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 
 struct Published {
     int map_id;
@@ -35,8 +34,7 @@ void runPass(Mapper& m, const test::BoxesWorld& w, double start_x, double length
         const TimedPose nav = test::trackPose(t, start_x + 0.005 * i);
         m.addNav(nav);
         finaliseLeft(m, out);
-        const int phase = i % 80;
-        auto ping = test::simulatePing(w, m.psModel(), nav.pose, t, (phase < 40 ? -20 + phase : 60 - phase) * kDeg);
+        auto ping = test::simulatePing(w, m.psModel(), nav.pose, t, test::sectorScanHead(i));
         m.addPs(ping.view);
         if (i % 4 == 0) {
             auto frame = test::simulateFrame(w, m.config().fls, m.flsModel(), nav.pose, t);
