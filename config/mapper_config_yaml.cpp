@@ -142,6 +142,12 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("fls_only_needs_support", g.fls_only_needs_support);
     seg.read("fls_only_not_above_ps_top", g.fls_only_not_above_ps_top);
     seg.read("low_echoes_seen_above_seabed", g.low_echoes_seen_above_seabed);
+    if (seg.has("fls_votes_per_ps_crossing")) seg.read("fls_votes_per_ps_crossing", g.fls_votes_per_ps_crossing);
+    else {  // derived from the update model (docs/mapper-config.md): the crossing's weakest carve over a full vote
+        const double per = -logOddsFromProbability(m.update.p_free) * std::exp(-m.update.alpha_ps) /
+                           (m.update.alpha_fls * logOddsFromProbability(m.update.p_occupied));
+        g.fls_votes_per_ps_crossing = std::isfinite(per) && per > 0.0 ? per : 0.0;  // votes that add nothing: off
+    }
     seg.read("base_follows_sloped_faces", g.base_follows_sloped_faces);
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("fill_below_through_unobserved", g.fill_below_through_unobserved);

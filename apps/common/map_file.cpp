@@ -12,10 +12,11 @@
 namespace sonarfusion {
 
 namespace {
-// Version 2 adds the above-seabed FLS vote counts after the flags; version 1
-// files (without them) still load, with every count zero.
-constexpr char kMagic[8] = {'S', 'F', 'M', 'A', 'P', '0', '0', '2'};
-constexpr char kMagicV1[8] = {'S', 'F', 'M', 'A', 'P', '0', '0', '1'};
+// Version 2 adds the above-seabed FLS vote counts after the flags, version 3
+// the PS crossing counts after those; older files still load, with the counts
+// they lack zero.
+constexpr char kMagic[8] = {'S', 'F', 'M', 'A', 'P', '0', '0', '3'};
+constexpr char kMagicPrefix[7] = {'S', 'F', 'M', 'A', 'P', '0', '0'};
 
 [[noreturn]] void fail(const std::string& path, const std::string& why) {
     throw std::runtime_error("map file " + path + ": " + why);
@@ -63,6 +64,7 @@ void saveMap(const std::string& path, const VoxelMap& map, const std::string& va
         f.write(reinterpret_cast<const char*>(map.flagsData().data()), static_cast<std::streamsize>(map.size()));
         f.write(reinterpret_cast<const char*>(map.aboveSeabedVotesData().data()),
                 static_cast<std::streamsize>(map.size()));
+        f.write(reinterpret_cast<const char*>(map.psCrossingsData().data()), static_cast<std::streamsize>(map.size()));
     });
 }
 
@@ -93,8 +95,8 @@ std::ifstream openMapFile(const std::string& path, uint64_t& size) {
 // voxels unread.
 MapFileHeader readHeader(std::ifstream& f, const std::string& path, uint64_t file_size) {
     char magic[8];
-    if (!f.read(magic, sizeof(magic)) ||
-        (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0 && std::memcmp(magic, kMagicV1, sizeof(kMagicV1)) != 0))
+    if (!f.read(magic, sizeof(magic)) || std::memcmp(magic, kMagicPrefix, sizeof(kMagicPrefix)) != 0 ||
+        magic[7] < '1' || magic[7] > kMagic[7])
         fail(path, "not a sonarfusion map (bad magic)");
     MapFileHeader h;
     h.version = magic[7] - '0';
@@ -131,7 +133,7 @@ MapFileHeader readHeader(std::ifstream& f, const std::string& path, uint64_t fil
         if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e)
             fail(path, "variant name is not printable ASCII");
     const uint64_t voxels = static_cast<uint64_t>(h.nx) * static_cast<uint64_t>(h.ny) * static_cast<uint64_t>(h.nz);
-    const uint64_t bytes_per_voxel = sizeof(float) + (h.version >= 2 ? 2 : 1);
+    const uint64_t bytes_per_voxel = sizeof(float) + static_cast<uint64_t>(h.version);  // flags, votes, crossings
     const uint64_t expected = kFixedHeaderBytes + len + voxels * bytes_per_voxel;
     if (file_size < expected)
         fail(path, "truncated voxel data (" + std::to_string(file_size) + " bytes; the " + std::to_string(h.nx) + " x " +
@@ -163,10 +165,13 @@ MapFileHeader loadMap(const std::string& path, VoxelMap& map) {
     if (h.nx != map.nx() || h.ny != map.ny() || h.nz != map.nz()) fail(path, "dimensions differ from the map");
     // The header matched the file's size, so these are as large as the file, no larger.
     std::vector<float> l(map.size());
-    std::vector<uint8_t> flags(map.size()), above(map.size(), 0);
+    std::vector<uint8_t> flags(map.size()), above(map.size(), 0), crossed(map.size(), 0);
     if (!f.read(reinterpret_cast<char*>(l.data()), static_cast<std::streamsize>(l.size() * sizeof(float))) ||
         !f.read(reinterpret_cast<char*>(flags.data()), static_cast<std::streamsize>(flags.size())) ||
-        (h.version >= 2 && !f.read(reinterpret_cast<char*>(above.data()), static_cast<std::streamsize>(above.size()))))
+        (h.version >= 2 &&
+         !f.read(reinterpret_cast<char*>(above.data()), static_cast<std::streamsize>(above.size()))) ||
+        (h.version >= 3 &&
+         !f.read(reinterpret_cast<char*>(crossed.data()), static_cast<std::streamsize>(crossed.size()))))
         fail(path, "truncated voxel data");
     // Checked before the map is touched: a bad file leaves it as it was.
     for (std::size_t i = 0; i < l.size(); ++i)
@@ -176,6 +181,7 @@ MapFileHeader loadMap(const std::string& path, VoxelMap& map) {
         map.setLogOdds(i, l[i]);
         map.setFlags(i, flags[i]);
         map.setFlsAboveSeabedVotes(i, above[i]);
+        map.setPsCrossings(i, crossed[i]);
     }
     return h;
 }

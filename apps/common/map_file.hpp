@@ -19,7 +19,7 @@ struct MapFileHeader {
     float clamp_min = -5.0f, clamp_max = 5.0f;
     bool initialised = false;
     std::string variant;  // fls_only, carve_only, paper, fused
-    int version = 2;      // 1: no above-seabed FLS vote counts (docs/map-format.md)
+    int version = 3;      // 1: no above-seabed FLS vote counts, 2: no PS crossing counts (docs/map-format.md)
 };
 
 // Throws std::runtime_error with the path and the reason on any failure.

@@ -158,6 +158,8 @@ Check SegmentationConfig::validate() const {
     if (!inRange(fls_only_extension, 0, 255)) return bad("fls_only_extension", range(0, 255));  // steps in a byte
     if (!inRange(fls_above_seabed_min_votes, 0, 255))  // the per-voxel count saturates at 255
         return bad("fls_above_seabed_min_votes", range(0, 255));
+    if (!(fls_votes_per_ps_crossing >= 0.0) || !finite(fls_votes_per_ps_crossing))
+        return bad("fls_votes_per_ps_crossing", "must be finite and >= 0 (0: off)");
     if (ps_echo_min_count < 1) return bad("ps_echo_min_count", "must be >= 1");
     if (!(ps_echo_min_fraction >= 0.0 && ps_echo_min_fraction <= 1.0))
         return bad("ps_echo_min_fraction", "must be in [0, 1]");

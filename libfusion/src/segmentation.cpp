@@ -471,7 +471,15 @@ void Segmenter::label(const VoxelMap& map) {
                                     map.flsAboveSeabedVotes(i) >= cfg_.fls_above_seabed_min_votes && !floats;
             const bool low_echoed = cfg_.low_echoes_seen_above_seabed && map.psEchoCount(i) > 0 &&
                                     !aboveBaseline(map, i, cfg_.min_object_height);
+            // With fls_votes_per_ps_crossing, so do voxels PS rays crossed
+            // with no echo of their own, when the FLS's votes outweigh those
+            // crossings in the updates' own log-odds (-7: the clamp hid it),
+            // up to the object's highest PS-confirmed layer, no higher.
+            const bool outweighed =
+                crossings_counted_ && cfg_.fls_votes_per_ps_crossing > 0.0 && map.psEchoCount(i) == 0 &&
+                map.flsAboveSeabedVotes(i) > cfg_.fls_votes_per_ps_crossing * map.psCrossings(i);
             if (seen_above && (!map.psObserved(i) || low_echoed)) label_[i] = -5;
+            else if (seen_above && outweighed) label_[i] = -7;
             else if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
             else if (cfg_.fill_below_objects) label_[i] = -4;
             continue;
@@ -530,6 +538,11 @@ void Segmenter::label(const VoxelMap& map) {
                         if ((label_[nl] == -5 || label_[nl] == -3) && cfg_.fls_only_not_above_ps_top &&
                             n.z < top_layer - 1)
                             continue;
+                        // A voxel the PS crossed joins no higher than that top, and only
+                        // from its own layer or the one above: were it surface standing
+                        // above the object, the rays that crossed it would have met it
+                        // first (a fin over a top edge, where NAV drift shifts the passes).
+                        if (label_[nl] == -7 && (n.z < top_layer || n.z < c.z)) continue;
                         if (label_[nl] == -3) {
                             const int steps = confirmed_[v] + 1;
                             if (steps > cfg_.fls_only_extension) continue;
@@ -607,6 +620,11 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
         smoothBaseline(map, cfg_.min_object_height);
     }
     baseline_at_echo_centres_ = from_echoes && cfg_.seabed_at_echo_centres;
+    // A map saved before PS crossings were counted (SFMAP001/002) holds none
+    // anywhere: every crossed voxel would look uncontested.
+    crossings_counted_ = false;
+    if (cfg_.fls_votes_per_ps_crossing > 0.0)
+        for (std::size_t i = 0; i < map.size() && !crossings_counted_; ++i) crossings_counted_ = map.psCrossings(i) > 0;
     if (!confirmed_.empty()) markConfirmed(map);
     label(map);
     return stats_;

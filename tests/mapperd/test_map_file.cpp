@@ -59,6 +59,7 @@ struct Fixture {
             m.setLogOdds(i, static_cast<float>(static_cast<int>(i % 11) - 5) * 0.7f);
             m.setFlags(i, static_cast<uint8_t>(i * 7));
             m.setFlsAboveSeabedVotes(i, static_cast<uint8_t>(i * 13));
+            m.setPsCrossings(i, static_cast<uint8_t>(i * 5 + 1));
         }
         saveMap(path, m, "fused");
         bytes = readBytes(path);
@@ -84,7 +85,7 @@ struct Fixture {
 
 TEST(MapFile, SavesAndLoadsExactly) {
     Fixture fx;
-    ASSERT_EQ(fx.bytes.size(), kVariant + 5 + 6 * 5 * 4 * 6u);
+    ASSERT_EQ(fx.bytes.size(), kVariant + 5 + 6 * 5 * 4 * 7u);
     const MapFileHeader h = readMapHeader(fx.path);
     EXPECT_EQ(h.variant, "fused");
     EXPECT_TRUE(h.initialised);
@@ -95,13 +96,45 @@ TEST(MapFile, SavesAndLoadsExactly) {
     EXPECT_EQ(readBytes(again), fx.bytes);
 }
 
+// Version 2 (SFMAP002) files have no PS crossing counts: they still load,
+// with everything else as saved and every crossing count zero.
+TEST(MapFile, AVersionTwoFileLoadsWithoutPsCrossings) {
+    Fixture fx;
+    ASSERT_EQ(std::string(fx.bytes.begin(), fx.bytes.begin() + 8), "SFMAP003");
+    const std::size_t n = 6 * 5 * 4;
+    std::vector<uint8_t> v2(fx.bytes.begin(), fx.bytes.end() - static_cast<std::ptrdiff_t>(n));
+    v2[7] = '2';
+    const std::string p = fx.dir.file("v2.map");
+    writeBytes(p, v2);
+    const MapFileHeader h = readMapHeader(p);
+    EXPECT_EQ(h.version, 2);
+    VoxelMap m(mapConfigOf(h));
+    loadMap(p, m);
+    VoxelMap want(mapConfigOf(h));
+    loadMap(fx.path, want);
+    for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(m.logOdds(i), want.logOdds(i));
+        ASSERT_EQ(m.flags(i), want.flags(i));
+        ASSERT_EQ(m.flsAboveSeabedVotes(i), want.flsAboveSeabedVotes(i));
+        ASSERT_EQ(m.psCrossings(i), 0);
+        ASSERT_EQ(want.psCrossings(i), static_cast<uint8_t>(i * 5 + 1));
+    }
+    // A version 2 file with the version 3 size is refused, not misread; so is
+    // a version the reader does not know.
+    std::vector<uint8_t> v2_long = fx.bytes;
+    v2_long[7] = '2';
+    EXPECT_NE(fx.errorOf(v2_long).find("trailing"), std::string::npos);
+    std::vector<uint8_t> v4 = fx.bytes;
+    v4[7] = '4';
+    EXPECT_NE(fx.errorOf(v4).find("bad magic"), std::string::npos);
+}
+
 // Version 1 (SFMAP001) files have no above-seabed vote counts: they still
 // load, with log-odds and flags as saved and every count zero.
 TEST(MapFile, AVersionOneFileLoadsWithoutAboveSeabedVotes) {
     Fixture fx;
-    ASSERT_EQ(std::string(fx.bytes.begin(), fx.bytes.begin() + 8), "SFMAP002");
     const std::size_t n = 6 * 5 * 4;
-    std::vector<uint8_t> v1(fx.bytes.begin(), fx.bytes.end() - static_cast<std::ptrdiff_t>(n));
+    std::vector<uint8_t> v1(fx.bytes.begin(), fx.bytes.end() - static_cast<std::ptrdiff_t>(2 * n));
     v1[7] = '1';
     const std::string p = fx.dir.file("v1.map");
     writeBytes(p, v1);
@@ -118,7 +151,7 @@ TEST(MapFile, AVersionOneFileLoadsWithoutAboveSeabedVotes) {
         ASSERT_EQ(want.flsAboveSeabedVotes(i), static_cast<uint8_t>(i * 13));
     }
     // A version 1 file with the version 2 size is refused, not misread.
-    std::vector<uint8_t> v1_long = fx.bytes;
+    std::vector<uint8_t> v1_long(fx.bytes.begin(), fx.bytes.end() - static_cast<std::ptrdiff_t>(n));
     v1_long[7] = '1';
     EXPECT_NE(fx.errorOf(v1_long).find("trailing"), std::string::npos);
 }

@@ -281,3 +281,20 @@ TEST(DaemonConfigValidation, TheAboveSeabedVoteThresholdIsDerivedFromTheUpdateMo
     }
     std::remove(bad.c_str());
 }
+
+// segmentation.fls_votes_per_ps_crossing, when absent, follows the update
+// model too: a crossing's weakest carve (the far end of its ray, Eq. 13) over a
+// full-intensity FLS vote (Eq. 6). Given, it is taken as it is.
+TEST(DaemonConfigValidation, TheVotesPerPsCrossingAreDerivedFromTheUpdateModel) {
+    auto perCrossing = [](const std::string& yaml) {
+        const std::string path = writeTemp(yaml + "\n");
+        const double n = loadDaemonConfig(path).mapper.segmentation.fls_votes_per_ps_crossing;
+        std::remove(path.c_str());
+        return n;
+    };
+    EXPECT_NEAR(perCrossing("daemon: {segment_period_s: 2}"), 1.386 * std::exp(-0.5) / (0.3 * 0.847), 0.005);  // 3.31
+    EXPECT_NEAR(perCrossing("update: {alpha_ps: 0}"), 1.386 / (0.3 * 0.847), 0.01);
+    EXPECT_NEAR(perCrossing("update: {alpha_fls: 0.6}"), 3.31 / 2, 0.005);
+    EXPECT_EQ(perCrossing("segmentation: {fls_votes_per_ps_crossing: 0}"), 0.0);
+    EXPECT_EQ(perCrossing("segmentation: {fls_votes_per_ps_crossing: 2.5}"), 2.5);
+}

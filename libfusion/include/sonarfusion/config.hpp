@@ -338,6 +338,21 @@ struct SegmentationConfig {
     // otherwise (docs/algorithm.md, "Low parts both sensors saw"). False: it
     // joins only from the layer above.
     bool low_echoes_seen_above_seabed = true;
+    // A voxel PS rays crossed, with no PS echo of its own, joins an object as
+    // an off-swath voxel does (from any side, never seeding one; with
+    // fls_above_seabed_min_votes above-seabed votes, standing on something)
+    // when those votes exceed this many per PS ray that crossed it
+    // (VoxelMap::psCrossings), only up to the object's highest PS-confirmed
+    // layer and only from its own layer or the one above (never climbing: a
+    // surface above would have stopped the rays). The log-odds clamp (Eq. 8) hides how many updates of
+    // each kind a voxel took; this compares them unclamped: a full-intensity
+    // FLS vote adds alpha_fls logit(p_occupied) (Eq. 6), a crossing at the far
+    // end of its ray, where Eq. 13 carves least, logit(p_free) exp(-alpha_ps).
+    // The YAML loader derives it so when absent (3.31 with the defaults). A
+    // narrow object at the PS fan's edge returns too weakly to stop the rays
+    // that cross it, while the FLS sees it stand above the seabed
+    // (docs/algorithm.md, "Crossed by the PS, seen by the FLS"). 0: off.
+    double fls_votes_per_ps_crossing = 3.31;
     // The foot of a sloped face reaches one voxel further out in the voxel the
     // seabed runs through: that voxel joins an object one step across from the
     // object's voxel in the layer above it when the map shows a face receding

@@ -79,6 +79,7 @@ private:
     SegmentationConfig cfg_;
     bool require_ps_;
     bool baseline_at_echo_centres_ = false;  // this run's baseline: echo voxel centres, not top faces
+    bool crossings_counted_ = false;  // the map counts PS crossings (not an SFMAP001/002 file)
     int nx_, ny_, nz_;
     float logodds_threshold_;
     std::vector<uint8_t> occupied_;      // per voxel

@@ -94,8 +94,9 @@ public:
 
     // PS rays that crossed this voxel on the way to an echo farther out (the
     // rays Eq. 13 carves with, spared or not; UpdateConfig::ps_carve_spare_echo_share).
-    // Saturates at kPsCrossingsMax. Checkpointed, not saved in the map file.
+    // Saturates at kPsCrossingsMax. Checkpointed and saved in the map file.
     [[nodiscard]] int psCrossings(std::size_t i) const { return ps_crossings_[i]; }
+    void setPsCrossings(std::size_t i, uint8_t n) { ps_crossings_[i] = n; }
 
     // Eqs. 6/13 followed by the clamp of Eqs. 7-8 (min/max compiles branch-free).
     void add(std::size_t i, float delta) {
@@ -137,6 +138,7 @@ public:
     [[nodiscard]] const std::vector<float>& logOddsData() const { return log_odds_; }
     [[nodiscard]] const std::vector<uint8_t>& flagsData() const { return flags_; }
     [[nodiscard]] const std::vector<uint8_t>& aboveSeabedVotesData() const { return above_seabed_votes_; }
+    [[nodiscard]] const std::vector<uint8_t>& psCrossingsData() const { return ps_crossings_; }
 
 private:
     int nx_, ny_, nz_;
