@@ -116,6 +116,8 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("judge_early_echoes", m.detector.judge_early_echoes);
     det.read("nearest_echo_sigmas", m.detector.nearest_echo_sigmas);
     det.read("fls_nearer_than_seabed", m.detector.fls_nearer_than_seabed);
+    det.read("fls_shadow_false_alarm", m.detector.fls_shadow_false_alarm);
+    det.read("fls_shadow_min_frames", m.detector.fls_shadow_min_frames);
     det.read("replay_pings", m.detector.replay_pings);
     det.rejectUnknownKeys();
 

@@ -142,6 +142,11 @@ Check DetectorConfig::validate() const {
     if (!inRange(replay_pings, 0, 65536)) return bad("replay_pings", range(0, 65536));
     if (!(nearest_echo_sigmas >= 0.0 && nearest_echo_sigmas <= 100.0))
         return bad("nearest_echo_sigmas", "must be in [0, 100] (0: the strongest bin only)");
+    if (!(fls_shadow_false_alarm >= 0.0 && fls_shadow_false_alarm <= 1.0))
+        return bad("fls_shadow_false_alarm", "must be in [0, 1] (expected runs per frame; 0: no shadow evidence)");
+    if (!inRange(fls_shadow_min_frames, 1, risen_capacity))
+        return bad("fls_shadow_min_frames", "must be in 1..risen_capacity (" + std::to_string(risen_capacity) +
+                                                "; the shadows' ring holds as many)");
     return std::nullopt;
 }
 

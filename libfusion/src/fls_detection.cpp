@@ -1,6 +1,8 @@
 #include "sonarfusion/fls_detection.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 
 namespace sonarfusion {
@@ -35,6 +37,140 @@ std::optional<Eigen::Vector3d> flsReturnNearerThanSeabed(const FlsFrame& frame, 
     }
     if (n == 0) return std::nullopt;
     return sum / n;
+}
+
+namespace {
+// The seabed band is cut into this many equal parts of each beam's band: the
+// seabed's returns weaken with range (grazing incidence falls across the band,
+// more so on a seabed falling away), so dark pixels grow likelier toward the
+// far end, and a chain fitted to the whole band would call the far end's
+// ordinary runs rare.
+constexpr int kBandParts = 8;
+
+struct BeamBand {
+    double near = 0.0, far = 0.0;  // m
+    [[nodiscard]] int part(double r) const {
+        return std::clamp(static_cast<int>((r - near) / (far - near) * kBandParts), 0, kBandParts - 1);
+    }
+};
+}  // namespace
+
+std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const FlsModel& model,
+                                                 const Eigen::Isometry3d& world_from_sensor, const SeabedFit& seabed,
+                                                 double margin, int noise_level, double false_alarm) {
+    const Eigen::Vector3d sensor = world_from_sensor.translation();
+    const double depth_below = seabed.depthAt(sensor.head<2>()) - sensor.z();
+    if (!(depth_below - margin > 0.0) || !(false_alarm > 0.0)) return std::nullopt;
+    const double lo = model.elevationMin(), hi = model.elevationMax(), mid = 0.5 * (lo + hi);
+    const auto rate = [&](int col, double e) {
+        return seabed.closingRate(world_from_sensor.linear() * model.directionAt(col, e).cast<double>());
+    };
+    // The band where the arc surely meets the plane: from where its
+    // fastest-closing ray meets the plane lowered by the margin to where its
+    // slowest meets it raised (the rate is monotonic in elevation, so an edge,
+    // or with roll near the centre); a ray that never closes leaves no far end.
+    const auto band_of = [&](int col) -> std::optional<BeamBand> {
+        double fastest = 0.0, slowest = std::numeric_limits<double>::infinity();
+        for (double e : {lo, mid, hi}) {
+            const double c = rate(col, e);
+            fastest = std::max(fastest, c);
+            slowest = std::min(slowest, c);
+        }
+        if (!(slowest > 1e-6)) return std::nullopt;
+        const BeamBand b{(depth_below + margin) / fastest, (depth_below - margin) / slowest};
+        if (!(b.far > b.near)) return std::nullopt;
+        return b;
+    };
+    const auto dark_at = [&](int row, int col) {
+        return frame.data[static_cast<std::size_t>(row) * frame.cols + col] <= noise_level;
+    };
+    // Pass 1: per part of the band, how often a pixel is dark and how often
+    // one after a dark pixel is dark too. Rows run from the far end: walk out
+    // from the nearest row.
+    std::array<long, kBandParts> pixels{}, dark{}, after_dark{}, dark_after_dark{};
+    long band_pixels = 0;
+    for (int col = 0; col < frame.cols; ++col) {
+        const std::optional<BeamBand> band = band_of(col);
+        if (!band) continue;
+        bool previous_dark = false, started = false;
+        for (int row = frame.rows - 1; row >= 0; --row) {
+            const double r = model.rangeOfRow(row);
+            if (r < band->near) continue;
+            if (r > band->far) break;
+            const int k = band->part(r);
+            const bool d = dark_at(row, col);
+            ++pixels[k];
+            dark[k] += d;
+            if (started && previous_dark) {
+                ++after_dark[k];
+                dark_after_dark[k] += d;
+            }
+            started = true;
+            previous_dark = d;
+            ++band_pixels;
+        }
+    }
+    std::array<double, kBandParts> log_p{}, log_q{};
+    for (int k = 0; k < kBandParts; ++k) {
+        // A run's pixels are counted in their parts, so every log taken in
+        // pass 2 is of a non-zero share; a part where every dark pixel follows
+        // another makes a run there no rarer (log 1 = 0).
+        log_p[k] = pixels[k] > 0 ? std::log(static_cast<double>(dark[k]) / pixels[k]) : 0.0;
+        log_q[k] = after_dark[k] > 0 ? std::log(static_cast<double>(dark_after_dark[k]) / after_dark[k]) : 0.0;
+    }
+    // Pass 2: every dark run that starts after a seabed return (the run ends
+    // at the next return or at the band's far end), scored by the chance of
+    // its rows under the chain of the parts they lie in; over the frame's N
+    // possible starts that bounds the expected count of runs as rare (the
+    // frame's false alarms, whatever part they fall in).
+    const double log_n = std::log(static_cast<double>(std::max<long>(1, band_pixels)));
+    double best_log = std::log(false_alarm);
+    int best_col = -1;
+    double best_range = 0.0;
+    for (int col = 0; col < frame.cols; ++col) {
+        const std::optional<BeamBand> band = band_of(col);
+        if (!band) continue;
+        bool bright_before = false;
+        double run_log = 0.0, run_start = 0.0;
+        int run = 0;
+        const auto judge = [&] {
+            if (run > 0 && bright_before && log_n + run_log < best_log) {
+                best_log = log_n + run_log;
+                best_col = col;
+                best_range = run_start;
+            }
+        };
+        for (int row = frame.rows - 1; row >= 0; --row) {
+            const double r = model.rangeOfRow(row);
+            if (r < band->near) continue;
+            if (r > band->far) break;
+            const int k = band->part(r);
+            if (dark_at(row, col)) {
+                run_log += run == 0 ? log_p[k] : log_q[k];
+                if (run == 0) run_start = r;
+                ++run;
+                continue;
+            }
+            judge();
+            run = 0;
+            run_log = 0.0;
+            bright_before = true;
+        }
+        judge();  // a run into the band's far end: the shadow of an object near it
+    }
+    if (best_col < 0) return std::nullopt;
+    // The elevation whose ray meets the plane at the run's first range: the
+    // closing rate there is depth / range; bisect (the rate is monotonic).
+    const double wanted = depth_below / best_range;
+    double a = lo, b = hi;
+    const bool rising = rate(best_col, hi) > rate(best_col, lo);
+    for (int k = 0; k < 30; ++k) {
+        const double m = 0.5 * (a + b);
+        if ((rate(best_col, m) < wanted) == rising) a = m;
+        else b = m;
+    }
+    const Eigen::Vector3d d = world_from_sensor.linear() * model.directionAt(best_col, 0.5 * (a + b)).cast<double>();
+    return sensor + best_range * d;
 }
 
 }  // namespace sonarfusion

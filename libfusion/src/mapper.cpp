@@ -337,7 +337,7 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     const Eigen::Isometry3d world_from_sensor = sensorToWorld(pose, cfg_.fls_mount);
     bool any = false;
     for (int s = 0; s < slotCount() && !any; ++s) any = updatable(s);
-    const bool detect = cfg_.detector.fls_nearer_than_seabed;
+    const bool detect = cfg_.detector.fls_nearer_than_seabed || cfg_.detector.fls_shadow_false_alarm > 0.0;
     if (!any && !detect) return count(Outcome::FlsBeforeMap);
     // The frame's geometry: the configured one (no geometry given, or the same),
     // else a cached one (tables computed once per geometry, LRU).
@@ -374,13 +374,26 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
             if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
         }
     }
-    // DetectorConfig::fls_nearer_than_seabed: after the maps, so a map this
-    // frame anchors starts with the next one (as for the PS).
+    // The FLS's evidence for the detector (DetectorConfig::fls_nearer_than_seabed,
+    // fls_shadow_false_alarm): after the maps, so a map this frame anchors
+    // starts with the next one (as for the PS).
     if (detect && footprint) {
         const double margin = 3.0 * footprint->rms + 0.5 * cfg_.map.resolution;
-        const std::optional<Eigen::Vector3d> risen = flsReturnNearerThanSeabed(
-            frame, model, world_from_sensor, *footprint, cfg_.update.fls_intensity_threshold, margin);
-        if (risen && detector_.addRisenEcho(*risen)) onDetection(*detector_.detection());
+        if (cfg_.detector.fls_nearer_than_seabed) {
+            const std::optional<Eigen::Vector3d> risen = flsReturnNearerThanSeabed(
+                frame, model, world_from_sensor, *footprint, cfg_.update.fls_intensity_threshold, margin);
+            if (risen && detector_.addRisenEcho(*risen)) onDetection(*detector_.detection());
+        }
+        // DetectorConfig::fls_shadow_false_alarm: dark as the FLS's free space
+        // judges it (UpdateConfig::fls_free_space_noise_sigmas).
+        if (cfg_.detector.fls_shadow_false_alarm > 0.0) {
+            const std::optional<Eigen::Vector3d> shadow =
+                flsShadowOnSeabed(frame, model, world_from_sensor, *footprint, margin,
+                                  noiseLevel(frame, cfg_.update.fls_free_space_noise_sigmas),
+                                  cfg_.detector.fls_shadow_false_alarm);
+            if (shadow) ++counters_.fls_shadows;
+            if (shadow && detector_.addShadow(*shadow)) onDetection(*detector_.detection());
+        }
     }
     if (!any) return count(Outcome::FlsBeforeMap);
     ++counters_.fls_used;

@@ -22,12 +22,14 @@ ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
     seabed_state_.assign(cfg.seabed_capacity, EchoState::Seabed);
     residual_.assign(cfg.seabed_capacity, 0.0);
     risen_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
+    shadows_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
 }
 
 void ObjectDetector::reset() {
     seabed_count_ = seabed_next_ = 0;
     std::fill(seabed_state_.begin(), seabed_state_.end(), EchoState::Seabed);
     risen_count_ = risen_next_ = 0;
+    shadow_count_ = shadow_next_ = 0;
     last_xy_.setZero();
     detection_.reset();
     detections_ = 0;
@@ -254,6 +256,33 @@ bool ObjectDetector::addRisenEcho(const Eigen::Vector3d& p) {
     return declareAround(p.head<2>());
 }
 
+bool ObjectDetector::addShadow(const Eigen::Vector3d& p) {
+    if (!p.allFinite()) return false;
+    const int cap = static_cast<int>(shadows_.size());
+    shadows_[shadow_next_] = p;
+    shadow_next_ = (shadow_next_ + 1) % cap;
+    if (shadow_count_ < cap) ++shadow_count_;
+    const double c2 = cfg_.cluster_radius * cfg_.cluster_radius;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int i = 0; i < shadow_count_; ++i)
+        if ((shadows_[i].head<2>() - p.head<2>()).squaredNorm() <= c2) {
+            sum += shadows_[i];
+            ++n;
+        }
+    if (n < cfg_.fls_shadow_min_frames) return false;
+    detection_ = sum / n;
+    ++detections_;
+    // Spent, as a risen echo cluster is: the same shadow declares again only
+    // from fresh frames.
+    int kept = 0;
+    for (int i = 0; i < shadow_count_; ++i)
+        if ((shadows_[i].head<2>() - p.head<2>()).squaredNorm() > c2) shadows_[kept++] = shadows_[i];
+    shadow_count_ = kept;
+    shadow_next_ = kept % cap;
+    return true;
+}
+
 bool ObjectDetector::addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest) {
     if (!p.allFinite()) return false;
     const Eigen::Vector2d xy = p.head<2>();
@@ -305,6 +334,7 @@ void ObjectDetector::saveState(StateWriter& w) const {
     saveRing(w, seabed_, seabed_count_, seabed_next_);
     for (EchoState e : seabed_state_) w.pod(static_cast<uint8_t>(e));
     saveRing(w, risen_, risen_count_, risen_next_);
+    saveRing(w, shadows_, shadow_count_, shadow_next_);
     w.pod(last_xy_.x());
     w.pod(last_xy_.y());
     w.pod(static_cast<uint8_t>(detection_.has_value()));
@@ -322,7 +352,7 @@ bool ObjectDetector::loadState(StateReader& r) {
         if (!r.pod(v) || v > static_cast<uint8_t>(EchoState::RisenLater)) return false;
         e = static_cast<EchoState>(v);
     }
-    if (!loadRing(r, risen_, risen_count_, risen_next_) ||
+    if (!loadRing(r, risen_, risen_count_, risen_next_) || !loadRing(r, shadows_, shadow_count_, shadow_next_) ||
         !r.pod(last_xy_.x()) || !r.pod(last_xy_.y()) || !r.pod(has) || !r.pod(d[0]) || !r.pod(d[1]) || !r.pod(d[2]) ||
         !r.pod(detections_) || detections_ < 0)
         return false;

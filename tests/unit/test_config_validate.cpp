@@ -78,6 +78,10 @@ const BadValue kBadValues[] = {
     {"Detector_radius", [](MapperConfig& c) { c.detector.seabed_radius = 0.0; }, "detector.seabed_radius"},
     {"Detector_nearest_sigmas_negative", [](MapperConfig& c) { c.detector.nearest_echo_sigmas = -1.0; },
      "detector.nearest_echo_sigmas"},
+    {"Detector_shadow_false_alarm", [](MapperConfig& c) { c.detector.fls_shadow_false_alarm = -1e-5; },
+     "detector.fls_shadow_false_alarm"},
+    {"Detector_shadow_min_frames", [](MapperConfig& c) { c.detector.fls_shadow_min_frames = 0; },
+     "detector.fls_shadow_min_frames"},
     // The detector's constructor needs min_rise > 0 and at most 2^16 risen echoes;
     // validateConfig used to accept 0 and 10^6 (sf-mapper then exited 1, no key).
     {"Detector_min_rise0", [](MapperConfig& c) { c.detector.min_rise = 0.0; }, "detector.min_rise"},

@@ -335,3 +335,30 @@ TEST(ObjectDetector, ANearerEchoRisesWhereTheStrongestIsTheSeabeds) {
     EXPECT_FALSE(weak.addNearestEcho(Eigen::Vector3d(1.9, 0.0, 19.99)));  // not risen
     EXPECT_TRUE(weak.addNearestEcho(Eigen::Vector3d(2.0, 0.0, 19.5)));
 }
+
+// DetectorConfig::fls_shadow_min_frames: FLS shadows gather in a ring of their
+// own; one frame's shadow declares nothing, a second within cluster_radius
+// declares an object at their mean, and the pair is spent.
+TEST(ObjectDetector, ShadowsFromTwoFramesDeclareAnObject) {
+    DetectorConfig cfg;
+    ObjectDetector det(cfg);
+    EXPECT_FALSE(det.addShadow(Eigen::Vector3d(4.0, 1.0, 20.0)));
+    EXPECT_FALSE(det.addShadow(Eigen::Vector3d(9.0, 1.0, 20.0)));  // far from the first: its own cluster
+    EXPECT_FALSE(det.addShadow(Eigen::Vector3d(NAN, 1.0, 20.0)));
+    EXPECT_FALSE(det.detected());
+    ASSERT_TRUE(det.addShadow(Eigen::Vector3d(4.2, 1.2, 20.0)));
+    ASSERT_TRUE(det.detection().has_value());
+    EXPECT_NEAR(det.detection()->x(), 4.1, 1e-9);
+    EXPECT_NEAR(det.detection()->y(), 1.1, 1e-9);
+    EXPECT_EQ(det.detections(), 1);
+    EXPECT_FALSE(det.addShadow(Eigen::Vector3d(4.1, 1.1, 20.0)));  // the pair was spent
+    // Shadows are not risen echoes: they never count toward min_risen_echoes.
+    for (int i = 0; i < cfg.min_risen_echoes - 1; ++i) EXPECT_FALSE(det.addRisenEcho(Eigen::Vector3d(9.0, 1.0, 19.5)));
+}
+
+TEST(ObjectDetector, ShadowMinFramesOneDeclaresOnTheFirst) {
+    DetectorConfig cfg;
+    cfg.fls_shadow_min_frames = 1;
+    ObjectDetector det(cfg);
+    EXPECT_TRUE(det.addShadow(Eigen::Vector3d(4.0, 1.0, 20.0)));
+}

@@ -274,6 +274,24 @@ struct DetectorConfig {
     // scenarios more than it gained (the same section). False: the PS alone
     // detects (paper).
     bool fls_nearer_than_seabed = false;
+    // FLS frames hold shadows too: an object on the seabed hides the seabed
+    // behind it, and those pixels go dark for a run of rows that speckle
+    // seldom makes. A frame's rarest dark run inside the seabed band (the same
+    // plane and margin as above), starting after a seabed return, is a shadow
+    // when the frame's own dark statistics (a two-state chain fitted to its
+    // band pixels, per part of the band) expect fewer such runs than this per
+    // frame (flsShadowOnSeabed); it is placed where it starts on the seabed,
+    // just behind the object. A low object beside the track at low altitude
+    // leaves the FLS fan before it returns from nearer than the seabed, and
+    // no PS ping holds it: its shadow is the evidence there is
+    // (docs/algorithm.md, "Shadows: the FLS detects what lies beside the PS fan").
+    // 0: no shadow evidence.
+    double fls_shadow_false_alarm = 1e-5;
+    // Shadows from this many FLS frames within cluster_radius of each other
+    // declare an object: one frame's shadow may be a glitch of that frame (a
+    // fish, a dropout); at fls_shadow_false_alarm per frame, two speckle
+    // shadows falling on the same 0.5 m of seabed are far rarer still.
+    int fls_shadow_min_frames = 2;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `detector` block
 };
 

@@ -66,6 +66,7 @@ struct MapperCounters {
     int64_t objects_left_to_other_map = 0;  // a map that sees more of it publishes it
     int64_t objects_duplicate = 0;          // overlapped an object already published
     int64_t ps_pings_replayed = 0;          // held PS pings carved into a map when it was anchored
+    int64_t fls_shadows = 0;                // FLS frames holding a shadow (DetectorConfig::fls_shadow_false_alarm)
 };
 
 // One slot of the survey pool. id 0: free.

@@ -36,6 +36,10 @@ public:
     // return from nearer than the seabed, DetectorConfig::fls_nearer_than_seabed):
     // it joins the risen echoes as it is. True when it declares an object.
     bool addRisenEcho(const Eigen::Vector3d& p);
+    // An FLS shadow's seabed point (DetectorConfig::fls_shadow_false_alarm):
+    // kept in a ring of its own, and fls_shadow_min_frames of them within
+    // cluster_radius declare an object at their mean. True when it declares.
+    bool addShadow(const Eigen::Vector3d& p);
     void reset();
     void saveState(StateWriter& w) const;
     [[nodiscard]] bool loadState(StateReader& r);
@@ -96,6 +100,8 @@ private:
     int seabed_count_ = 0, seabed_next_ = 0;
     std::vector<Eigen::Vector3d> risen_;   // ring of risen echoes
     int risen_count_ = 0, risen_next_ = 0;
+    std::vector<Eigen::Vector3d> shadows_; // ring of FLS shadow points (risen_capacity)
+    int shadow_count_ = 0, shadow_next_ = 0;
     Eigen::Vector2d last_xy_ = Eigen::Vector2d::Zero();
     std::optional<Eigen::Vector3d> detection_;
     mutable std::optional<SeabedFit> newest_fit_;  // seabedAtNewestEcho's cache
