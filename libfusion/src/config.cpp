@@ -140,6 +140,7 @@ Check DetectorConfig::validate() const {
     if (!inRange(min_risen_echoes, 1, risen_capacity))
         return bad("min_risen_echoes", "must be in 1..risen_capacity (" + std::to_string(risen_capacity) + ")");
     if (!inRange(replay_pings, 0, 65536)) return bad("replay_pings", range(0, 65536));
+    if (!inRange(replay_fls_frames, 0, 4096)) return bad("replay_fls_frames", range(0, 4096));
     if (!(nearest_echo_sigmas >= 0.0 && nearest_echo_sigmas <= 100.0))
         return bad("nearest_echo_sigmas", "must be in [0, 100] (0: the strongest bin only)");
     if (!(fls_shadow_false_alarm >= 0.0 && fls_shadow_false_alarm <= 1.0))

@@ -71,7 +71,8 @@ std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
                        (cfg.fls_max_geometries - 1) * (static_cast<double>(cfg.fls.rows + cfg.fls.beams) * 8.0 +
                                                        static_cast<double>(cfg.fls.beams) * cfg.fls.elevation_samples * 12.0);
     const double bytes = voxels * (24.0 + 7.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
-                         (cfg.detector.seabed_capacity + cfg.detector.risen_capacity) * 32.0 + cfg.detector.replay_pings * 176.0 +
+                         (cfg.detector.seabed_capacity + 2.0 * cfg.detector.risen_capacity) * 32.0 + cfg.detector.replay_pings * 176.0 +
+                         cfg.detector.replay_fls_frames * (static_cast<double>(cfg.fls.rows) * cfg.fls.beams + 192.0) +
                          cfg.survey.published_capacity * 48.0;
     return bytes > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(bytes);
 }
@@ -105,6 +106,8 @@ Mapper::Mapper(const MapperConfig& cfg)
     for (int i = 1; i < cfg.fls_max_geometries; ++i) fls_models_.emplace_back(cfg.fls);
     fls_geometry_used_.assign(static_cast<std::size_t>(cfg.fls_max_geometries), 0);
     held_pings_.resize(static_cast<std::size_t>(cfg.detector.replay_pings));
+    held_frames_.resize(static_cast<std::size_t>(cfg.detector.replay_fls_frames));
+    held_pixels_.assign(held_frames_.size() * static_cast<std::size_t>(cfg.fls.rows) * cfg.fls.beams, 0);
 }
 
 Outcome Mapper::count(Outcome o) {
@@ -338,7 +341,7 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     bool any = false;
     for (int s = 0; s < slotCount() && !any; ++s) any = updatable(s);
     const bool detect = cfg_.detector.fls_nearer_than_seabed || cfg_.detector.fls_shadow_false_alarm > 0.0;
-    if (!any && !detect) return count(Outcome::FlsBeforeMap);
+    if (!any && !detect && held_frames_.empty()) return count(Outcome::FlsBeforeMap);
     // The frame's geometry: the configured one (no geometry given, or the same),
     // else a cached one (tables computed once per geometry, LRU).
     int geometry = 0;
@@ -350,6 +353,9 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
         range_max = fls_models_[static_cast<std::size_t>(geometry) - 1].rangeMax();
     }
     const FlsModel& model = flsGeometryModel(geometry);
+    // DetectorConfig::replay_fls_frames: frames of the configured geometry are
+    // held for a map anchored later (this frame included).
+    const bool hold = !held_frames_.empty() && geometry == 0;
     // The detector's plane where the FLS boresight meets the seabed: the seabed
     // the votes are judged against (UpdateConfig::fls_seabed_at_footprint; the
     // plane's gradient carries it across the fan) and the detector's own.
@@ -360,12 +366,16 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
         (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
     // Fitted only where something uses it (two fits per frame).
     const std::optional<SeabedFit> footprint =
-        detect || (any && cfg_.update.fls_seabed_at_footprint)
+        detect || ((any || hold) && cfg_.update.fls_seabed_at_footprint)
             ? detector_.seabedAlongRay(world_from_sensor.translation(), boresight)
             : std::nullopt;
+    const std::optional<SeabedFit>& vote_seabed =
+        cfg_.update.fls_seabed_at_footprint ? footprint : detector_.seabedAtNewestEcho();
+    last_fls_seabed_ = vote_seabed;
+    if (hold) holdFrame(frame, world_from_sensor, vote_seabed);
     if (any) {
         fls_updater_.select(geometry);
-        fls_updater_.setSeabed(cfg_.update.fls_seabed_at_footprint ? footprint : detector_.seabedAtNewestEcho());
+        fls_updater_.setSeabed(vote_seabed);
         for (int s = 0; s < slotCount(); ++s) {
             if (!updatable(s)) continue;
             if (!reaches(s, world_from_sensor.translation(), range_max)) continue;
@@ -568,6 +578,90 @@ void Mapper::initialiseMapAt(const Eigen::Vector3d& centre) {
     maps_[static_cast<std::size_t>(s)].initialiseAt(centre);
     ++counters_.map_initialisations;
     replayHeldPings(s);
+    replayHeldFrames(s);
+}
+
+void Mapper::holdFrame(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor,
+                       const std::optional<SeabedFit>& seabed) {
+    const std::size_t pixels = held_pixels_.size() / held_frames_.size();
+    if (frame.data_size != pixels) return;  // the configured geometry only
+    std::copy(frame.data, frame.data + pixels, held_pixels_.begin() + static_cast<std::ptrdiff_t>(held_frame_next_ * pixels));
+    held_frames_[static_cast<std::size_t>(held_frame_next_)] = HeldFrame{frame.utime, world_from_sensor, seabed};
+    const int cap = static_cast<int>(held_frames_.size());
+    held_frame_next_ = (held_frame_next_ + 1) % cap;
+    held_frame_count_ = std::min(held_frame_count_ + 1, cap);
+}
+
+// DetectorConfig::replay_fls_frames: the FLS looks at an object before the
+// detector declared it are applied to its new map as they would have been had
+// the map existed, in their order, each judged against the seabed it was then.
+void Mapper::replayHeldFrames(int slot) {
+    const int cap = static_cast<int>(held_frames_.size());
+    if (cap == 0 || held_frame_count_ == 0) return;
+    const std::size_t pixels = held_pixels_.size() / held_frames_.size();
+    fls_updater_.select(0);
+    for (int k = 0; k < held_frame_count_; ++k) {
+        const int i = (held_frame_next_ - held_frame_count_ + k + cap) % cap;
+        const HeldFrame& h = held_frames_[static_cast<std::size_t>(i)];
+        if (!reaches(slot, h.world_from_sensor.translation(), cfg_.fls.range_max)) continue;
+        FlsFrame f;
+        f.utime = h.utime;
+        f.rows = fls_model_.rows();
+        f.cols = fls_model_.cols();
+        f.data = held_pixels_.data() + static_cast<std::size_t>(i) * pixels;
+        f.data_size = pixels;
+        fls_updater_.setSeabed(h.seabed);
+        const FlsUpdateStats st = fls_updater_.apply(f, h.world_from_sensor, maps_[static_cast<std::size_t>(slot)]);
+        counters_.fls_points_outside_map += st.points_outside_map;
+        if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(slot)].updates;
+        ++counters_.fls_frames_replayed;
+    }
+}
+
+void Mapper::saveHeldFrames(StateWriter& w) const {
+    const std::size_t pixels = held_frames_.empty() ? 0 : held_pixels_.size() / held_frames_.size();
+    w.pod(held_frame_count_);
+    w.pod(held_frame_next_);
+    for (int i = 0; i < held_frame_count_; ++i) {
+        const HeldFrame& h = held_frames_[static_cast<std::size_t>(i)];
+        w.pod(h.utime);
+        const Eigen::Matrix<double, 3, 4> m = h.world_from_sensor.matrix().topRows<3>();
+        for (int k = 0; k < 12; ++k) w.pod(m.data()[k]);
+        w.pod(static_cast<uint8_t>(h.seabed.has_value()));
+        const SeabedFit f = h.seabed.value_or(SeabedFit{});
+        for (double v : {f.centre.x(), f.centre.y(), f.depth, f.gradient.x(), f.gradient.y(), f.rms}) w.pod(v);
+        w.pod(f.echoes);
+        w.bytes(held_pixels_.data() + static_cast<std::size_t>(i) * pixels, pixels);
+    }
+}
+
+bool Mapper::loadHeldFrames(StateReader& r) {
+    const int cap = static_cast<int>(held_frames_.size());
+    if (!r.pod(held_frame_count_) || !r.pod(held_frame_next_) || held_frame_count_ < 0 || held_frame_count_ > cap ||
+        held_frame_next_ < 0 || held_frame_next_ >= std::max(cap, 1) ||
+        (held_frame_count_ < cap && held_frame_next_ != held_frame_count_ % std::max(cap, 1)))
+        return false;
+    const std::size_t pixels = held_frames_.empty() ? 0 : held_pixels_.size() / held_frames_.size();
+    for (int i = 0; i < held_frame_count_; ++i) {
+        HeldFrame& h = held_frames_[static_cast<std::size_t>(i)];
+        Eigen::Matrix<double, 3, 4> m;
+        uint8_t has = 0;
+        SeabedFit f;
+        if (!r.pod(h.utime)) return false;
+        for (int k = 0; k < 12; ++k)
+            if (!r.pod(m.data()[k])) return false;
+        if (!r.pod(has) || has > 1) return false;
+        for (double* v : {&f.centre.x(), &f.centre.y(), &f.depth, &f.gradient.x(), &f.gradient.y(), &f.rms})
+            if (!r.pod(*v) || !std::isfinite(*v)) return false;
+        if (!r.pod(f.echoes) || !m.allFinite() ||
+            !r.bytes(held_pixels_.data() + static_cast<std::size_t>(i) * pixels, pixels))
+            return false;
+        h.world_from_sensor.matrix().topRows<3>() = m;
+        h.world_from_sensor.matrix().row(3) << 0.0, 0.0, 0.0, 1.0;
+        h.seabed.reset();
+        if (has) h.seabed = f;
+    }
+    return true;
 }
 
 // The detector declares an object only once enough risen echoes gather, and
@@ -617,6 +711,7 @@ void Mapper::saveState(StateWriter& w) const {
         for (int k = 0; k < 12; ++k) w.pod(m.data()[k]);
         for (double v : {h.head_angle, h.range, h.strength, h.carve_range, h.range_max}) w.pod(v);
     }
+    saveHeldFrames(w);
     nav_.saveState(w);
     w.pod(nav_candidate_count_);
     for (int i = 0; i < nav_candidate_count_; ++i) saveTimedPose(w, nav_candidate_[i]);
@@ -649,7 +744,7 @@ bool Mapper::loadState(StateReader& r) {
         if (!r.pod(published_[static_cast<std::size_t>(i)].map_id) || published_[static_cast<std::size_t>(i)].map_id < 0)
             return false;
     }
-    if (!detector_.loadState(r) || !loadHeldPings(r) || !nav_.loadState(r) || !r.pod(held) || held < 0 ||
+    if (!detector_.loadState(r) || !loadHeldPings(r) || !loadHeldFrames(r) || !nav_.loadState(r) || !r.pod(held) || held < 0 ||
         held >= cfg_.nav_timeline_confirm)
         return false;
     for (int i = 0; i < held; ++i)
@@ -683,7 +778,9 @@ std::size_t Mapper::stateBytesBound() const {
     // Per voxel: log-odds, flags, above-seabed votes, PS crossings.
     return 64 + maps_.size() * (maps_.front().size() * (sizeof(float) + 3) + 64) + 64 +
            published_.size() * 56 + 24 * 2 +
-           static_cast<std::size_t>(cfg_.detector.seabed_capacity + cfg_.detector.risen_capacity) * 24 +
+           static_cast<std::size_t>(cfg_.detector.seabed_capacity + 2 * cfg_.detector.risen_capacity) * 24 + 16 +
+           held_frames_.size() * (8 + 12 * sizeof(double) + 1 + 6 * sizeof(double) + sizeof(int)) + held_pixels_.size() +
+           16 +
            static_cast<std::size_t>(cfg_.detector.seabed_capacity) + 64 + held_pings_.size() * 17 * sizeof(double) + 16 +
            static_cast<std::size_t>(cfg_.nav_buffer_capacity) * pose + 16 +
            static_cast<std::size_t>(kMaxNavTimelineConfirm) * pose + 64 + sizeof(MapperCounters);

@@ -157,6 +157,46 @@ TEST(Mapper, AMapAnchoredLateHoldsThePingsThatFoundTheObject) {
     EXPECT_GT(observed_late, observed_unheld);
 }
 
+// DetectorConfig::replay_fls_frames (docs/algorithm.md, "The looks before the
+// detection"). The FLS sees the box from 10 m; the PS declares it only when its
+// fan reaches it. The held frames are applied to the map when it is anchored,
+// each judged against the seabed it was judged against then: the map is the
+// one a map anchored there before the first frame would have made (fls_only:
+// the FLS alone updates it). Without them it misses those looks.
+TEST(Mapper, AMapAnchoredLateHoldsTheFlsFramesThatSawTheObject) {
+    test::BoxWorld world;
+    auto run = [&](int replay_frames, const Eigen::Vector3d* anchor_first) {
+        MapperConfig cfg;
+        applyVariant(Variant::FlsOnly, cfg);
+        cfg.detector.replay_fls_frames = replay_frames;
+        cfg.detector.fls_shadow_false_alarm = 0.0;  // the PS declares
+        auto mapper = std::make_unique<Mapper>(cfg);
+        if (anchor_first) mapper->initialiseMapAt(*anchor_first);
+        runPass(*mapper, world, 1000, -4.5);
+        return mapper;
+    };
+    const auto late = run(256, nullptr);  // holds every frame of the pass
+    ASSERT_TRUE(late->map().initialised());
+    EXPECT_EQ(late->counters().map_initialisations, 1);
+    EXPECT_GT(late->counters().fls_frames_replayed, 10);
+    const Eigen::Vector3d centre = late->map().centre();
+    const auto early = run(256, &centre);
+    const auto unheld = run(0, nullptr);
+    ASSERT_TRUE(unheld->map().initialised());
+    ASSERT_EQ(unheld->map().centre(), centre);
+    EXPECT_EQ(unheld->counters().fls_frames_replayed, 0);
+    int differ_early = 0, differ_unheld = 0, touched_late = 0, touched_unheld = 0;
+    for (std::size_t i = 0; i < late->map().size(); ++i) {
+        differ_early += late->map().logOdds(i) != early->map().logOdds(i);
+        differ_unheld += late->map().logOdds(i) != unheld->map().logOdds(i);
+        touched_late += late->map().flsTouched(i);
+        touched_unheld += unheld->map().flsTouched(i);
+    }
+    EXPECT_EQ(differ_early, 0);
+    EXPECT_GT(differ_unheld, 100);
+    EXPECT_GT(touched_late, touched_unheld);
+}
+
 // DetectorConfig::nearest_echo_sigmas. A post 0.6 m tall stands in the PS fan,
 // but the seabed, echoing across the whole fan at one range, is every ping's
 // strongest bin: paper 2.1's maximum never rises. The post's weaker echo

@@ -164,6 +164,31 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
     FlsUpdater fls_recorder(mapper.flsModel(), cfg.update, mapper.map());  // its own scratch
     PsCarver ps_recorder(mapper.psModel(), cfg.update);
     VoxelMap counts(cfg.map);  // the PS echo and crossing counts the carver decides from
+    // DetectorConfig::replay_fls_frames: the frames the Mapper holds (the last
+    // that many of the configured geometry it judged, map or not), recorded as
+    // FLS messages when it anchors the map, in their order, as it applies them.
+    struct Held {
+        uint32_t source;
+        Eigen::Isometry3d world_from_sensor;
+        std::optional<SeabedFit> seabed;
+    };
+    std::vector<Held> held;
+    const std::size_t hold_capacity = static_cast<std::size_t>(cfg.detector.replay_fls_frames);
+    const auto recordFls = [&](uint32_t source, const Eigen::Isometry3d& world_from_sensor,
+                               const std::optional<SeabedFit>& seabed) {
+        MessageRecord m{};
+        m.source = source;
+        m.begin = static_cast<uint32_t>(s.updates.size());
+        m.kind = MessageRecord::Fls;
+        m.world_from_sensor = world_from_sensor;
+        m.seabed = seabed;
+        fls_recorder.setSeabed(m.seabed);
+        StreamSink sink(s, true, counts);
+        fls_recorder.apply(frameOf(log.fls[source]), m.world_from_sensor, mapper.map(), sink);
+        ++s.fls_frames;
+        m.end = static_cast<uint32_t>(s.updates.size());
+        s.messages.push_back(m);
+    };
 
     for (const ScenarioLog::Event& ev : log.order) {
         if (ev.kind == ScenarioLog::Event::Nav) {
@@ -173,26 +198,30 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
         }
         const bool mapping = mapper.map().initialised();
         const Outcome outcome = feedEvent(log, ev, mapper);
-        if (!mapping || outcome != Outcome::Used) continue;
-        if (!counts.initialised()) {
+        Pose pose;
+        if (hold_capacity > 0 && ev.kind == ScenarioLog::Event::Fls &&
+            (outcome == Outcome::Used || outcome == Outcome::FlsBeforeMap) &&
+            log.fls[ev.index].data.size() == static_cast<std::size_t>(cfg.fls.rows) * cfg.fls.beams &&
+            nav.poseAt(log.fls[ev.index].utime, pose) == PoseLookup::Ok) {
+            if (held.size() == hold_capacity) held.erase(held.begin());
+            held.push_back({static_cast<uint32_t>(ev.index), sensorToWorld(pose, cfg.fls_mount), mapper.lastFlsSeabed()});
+        }
+        if (!mapping && mapper.map().initialised()) {
             counts.initialiseAt(mapper.map().centre());
             if (counts.origin() != mapper.map().origin()) throw std::runtime_error("recorder: count map origin differs from the Mapper's");
+            for (const Held& h : held) recordFls(h.source, h.world_from_sensor, h.seabed);
+        }
+        if (!mapping || outcome != Outcome::Used) continue;
+        if (ev.kind == ScenarioLog::Event::Fls) {
+            const FlsMessage& f = log.fls[ev.index];
+            if (nav.poseAt(f.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used FLS frame");
+            recordFls(static_cast<uint32_t>(ev.index), sensorToWorld(pose, cfg.fls_mount), mapper.lastFlsSeabed());
+            continue;
         }
         MessageRecord m{};
         m.source = ev.index;
         m.begin = static_cast<uint32_t>(s.updates.size());
-        Pose pose;
-        if (ev.kind == ScenarioLog::Event::Fls) {
-            const FlsMessage& f = log.fls[ev.index];
-            if (nav.poseAt(f.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used FLS frame");
-            m.kind = MessageRecord::Fls;
-            m.world_from_sensor = sensorToWorld(pose, cfg.fls_mount);
-            m.seabed = mapper.lastFlsSeabed();
-            fls_recorder.setSeabed(m.seabed);
-            StreamSink sink(s, true, counts);
-            fls_recorder.apply(frameOf(f), m.world_from_sensor, mapper.map(), sink);
-            ++s.fls_frames;
-        } else {
+        {
             if (!cfg.update.ps_carving_enabled) continue;
             const PsMessage& p = log.ps[ev.index];
             PsPing ping;

@@ -248,6 +248,17 @@ struct DetectorConfig {
     // because the held far-look pings add echoes above the seabed beside an
     // object (docs/algorithm.md, "A mission that starts close to an object").
     int replay_pings = 0;
+    // FLS frames kept (ring, allocated once: copies of the configured
+    // geometry's images, 128 x 49 KB for 512 x 96, with their poses and the
+    // seabed their votes were judged against) and applied to a map when the
+    // detector anchors it, in their order, where they reach it (as if the map
+    // had existed): the FLS sees an object from range_max (10 m), the PS
+    // declares it 3-6 m ahead, and a low object beside the PS fan leaves the
+    // FLS fan within a metre of its shadows declaring it. 128 frames are 5 m
+    // of travel at the suite's 4 cm per frame. Frames of another geometry are
+    // not kept. 0: a map starts with the frame after the detection (paper)
+    // (docs/algorithm.md, "The looks before the detection").
+    int replay_fls_frames = 128;
     // A ping's nearest echo rises too: in the PS's tilted fan every bearing
     // meets a level seabed at the same range, so a return nearer than the
     // seabed's comes from above it, however weak. Paper 2.1 takes only the

@@ -67,6 +67,7 @@ struct MapperCounters {
     int64_t objects_duplicate = 0;          // overlapped an object already published
     int64_t ps_pings_replayed = 0;          // held PS pings carved into a map when it was anchored
     int64_t fls_shadows = 0;                // FLS frames holding a shadow (DetectorConfig::fls_shadow_false_alarm)
+    int64_t fls_frames_replayed = 0;        // held FLS frames applied to a map when it was anchored
 };
 
 // One slot of the survey pool. id 0: free.
@@ -161,7 +162,8 @@ public:
     }
     [[nodiscard]] int lastFlsGeometrySlot() const { return fls_updater_.selected(); }
     // The seabed plane the last FLS frame's votes were judged against (none before the detector has one).
-    [[nodiscard]] const std::optional<SeabedFit>& lastFlsSeabed() const { return fls_updater_.seabed(); }
+    // The seabed plane the last FLS frame's votes were (or, before any map, would have been) judged against.
+    [[nodiscard]] const std::optional<SeabedFit>& lastFlsSeabed() const { return last_fls_seabed_; }
     [[nodiscard]] const PsModel& psModel() const { return ps_model_; }
 
 private:
@@ -190,6 +192,11 @@ private:
     // Carves the held pings, oldest first, into the slot's new map.
     void replayHeldPings(int slot);
     [[nodiscard]] bool loadHeldPings(StateReader& r);
+    void holdFrame(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor,
+                   const std::optional<SeabedFit>& seabed);
+    void replayHeldFrames(int slot);
+    void saveHeldFrames(StateWriter& w) const;
+    [[nodiscard]] bool loadHeldFrames(StateReader& r);
 
     struct Box {
         Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
@@ -213,6 +220,16 @@ private:
     PsCarver ps_carver_;
     std::vector<HeldPing> held_pings_;  // ring, DetectorConfig::replay_pings
     int held_count_ = 0, held_next_ = 0;
+    // DetectorConfig::replay_fls_frames: a held FLS frame (its image in held_pixels_).
+    struct HeldFrame {
+        int64_t utime = 0;
+        Eigen::Isometry3d world_from_sensor = Eigen::Isometry3d::Identity();
+        std::optional<SeabedFit> seabed;  // the plane its votes were judged against
+    };
+    std::vector<HeldFrame> held_frames_;  // ring
+    std::vector<uint8_t> held_pixels_;    // rows x cols per held frame, allocated here
+    int held_frame_count_ = 0, held_frame_next_ = 0;
+    std::optional<SeabedFit> last_fls_seabed_;
     ObjectDetector detector_;
     Segmenter segmenter_;
     NavBuffer nav_;
