@@ -9,11 +9,16 @@
 // from a return nearer than a flat seabed at depth D anywhere on the beam's
 // elevation arc (less --seabed-margin): the ground-truth version of the
 // Mapper's own above-seabed count, which judges against the detector's plane
-// (docs/algorithm.md, "Off-swath parts").
+// (docs/algorithm.md, "Off-swath parts"). With --count-looks as well, per voxel,
+// the frames in which such a vote was possible at all: the voxel's centre lay
+// in the FLS's field of view and nearer than that seabed on its beam, whether
+// or not anything returned from its range (the opportunities the above-seabed
+// votes are a share of).
 //
 // The counts come from the very update stream the Mapper applies
 // (update_stream.hpp), so they are the mapper's own, frame by frame.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -38,6 +43,10 @@ int main(int argc, char** argv) {
                    "world z of a flat seabed: also count votes the seabed cannot explain (the voxel "
                    "lies nearer than the seabed does anywhere on its beam's elevation arc)");
     app.add_option("--seabed-margin", seabed_margin, "m subtracted from that nearest seabed range");
+    bool count_looks = false;
+    app.add_flag("--count-looks", count_looks,
+                 "with --seabed-depth: also count, per voxel, the frames that held it in the field of view "
+                 "nearer than the seabed on its beam");
     CLI11_PARSE(app, argc, argv);
 
     DaemonConfig dcfg;
@@ -53,7 +62,11 @@ int main(int argc, char** argv) {
     const sfbench::UpdateStream& s = rec.stream;
     VoxelMap map(dcfg.mapper.map);
     map.initialiseAt(s.map_centre);
-    std::vector<uint16_t> voted(map.size(), 0), freed(map.size(), 0), above(map.size(), 0);
+    std::vector<uint16_t> voted(map.size(), 0), freed(map.size(), 0), above(map.size(), 0), looks;
+    if (count_looks && std::isnan(seabed_depth)) {
+        std::fprintf(stderr, "sf-fls-evidence: --count-looks needs --seabed-depth\n");
+        return 2;
+    }
     const FlsGeometry& fg = dcfg.mapper.fls;
     // The nearest range at which a beam at this bearing meets the flat seabed:
     // over its elevation arc, the steepest ray.
@@ -68,6 +81,7 @@ int main(int argc, char** argv) {
     };
     auto bump = [](uint16_t& c) { c = static_cast<uint16_t>(c + (c < std::numeric_limits<uint16_t>::max())); };
     const bool count_above = !std::isnan(seabed_depth);
+    if (count_looks) looks.assign(map.size(), 0);
     for (const sfbench::MessageRecord& m : s.messages) {
         if (m.kind != sfbench::MessageRecord::Fls) continue;
         const Eigen::Isometry3d sensor_from_world = m.world_from_sensor.inverse();
@@ -84,6 +98,27 @@ int main(int argc, char** argv) {
             }
             else if (up.delta < 0.0f) bump(freed[up.voxel]);
         }
+        if (count_looks) {
+            // The nearest seabed range per bearing, tabulated across the fan.
+            constexpr int kBearings = 193;
+            double seabed_at[kBearings];
+            const double b0 = -0.5 * fg.fov_horizontal, db = fg.fov_horizontal / (kBearings - 1);
+            for (int k = 0; k < kBearings; ++k) seabed_at[k] = nearestSeabed(m.world_from_sensor, b0 + k * db);
+            const double half_fov = 0.5 * fg.fov_horizontal;
+            const double dep_lo = fg.tilt + fg.elevation_min, dep_hi = fg.tilt + fg.elevation_max;
+            for (std::size_t v = 0; v < map.size(); ++v) {
+                const Eigen::Vector3d p = sensor_from_world * map.centreOf(map.fromLinear(v));
+                if (p.x() <= 0.0) continue;
+                const double r = p.norm();
+                if (r < fg.range_min || r > fg.range_max) continue;
+                const double bearing = std::atan2(p.y(), p.x());
+                if (std::abs(bearing) > half_fov) continue;
+                const double dep = std::atan2(p.z(), std::hypot(p.x(), p.y()));
+                if (dep < dep_lo || dep > dep_hi) continue;
+                const int k = static_cast<int>(std::lround((bearing - b0) / db));
+                if (r < seabed_at[std::clamp(k, 0, kBearings - 1)] - seabed_margin) bump(looks[v]);
+            }
+        }
     }
     std::ofstream out(out_path, std::ios::binary);
     const int32_t dims[3] = {map.nx(), map.ny(), map.nz()};
@@ -97,6 +132,8 @@ int main(int argc, char** argv) {
     out.write(reinterpret_cast<const char*>(freed.data()), static_cast<std::streamsize>(freed.size() * 2));
     if (count_above)
         out.write(reinterpret_cast<const char*>(above.data()), static_cast<std::streamsize>(above.size() * 2));
+    if (count_looks)
+        out.write(reinterpret_cast<const char*>(looks.data()), static_cast<std::streamsize>(looks.size() * 2));
     if (!out) {
         std::fprintf(stderr, "sf-fls-evidence: cannot write %s\n", out_path.c_str());
         return 1;

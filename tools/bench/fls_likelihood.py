@@ -17,8 +17,8 @@ free-space weight").
 
 Counts file (sf-fls-evidence --out): "SFFLSEV1", int32 nx ny nz, float64
 resolution, float64 origin[3] (min corner, NED), then uint16 voted[n] and
-uint16 freed[n] (with --seabed-depth, then uint16 above_seabed[n], not read
-here), n = nx*ny*nz, linear index (iz*ny + iy)*nx + ix, little-endian.
+uint16 freed[n] (with --seabed-depth, then uint16 above_seabed[n], and with
+--count-looks too, uint16 looks[n]: neither is read here), n = nx*ny*nz, linear index (iz*ny + iy)*nx + ix, little-endian.
 Standard library only.
 """
 import argparse
