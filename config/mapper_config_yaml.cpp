@@ -154,6 +154,7 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("base_follows_sloped_faces", g.base_follows_sloped_faces);
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("fill_below_through_unobserved", g.fill_below_through_unobserved);
+    seg.read("fill_below_widens_through_unobserved", g.fill_below_widens_through_unobserved);
     seg.read("seabed_from_lower_envelope", g.seabed_from_lower_envelope);
     seg.read("seabed_at_echo_centres", g.seabed_at_echo_centres);
     seg.read("seabed_raised_sigmas", g.seabed_raised_sigmas);

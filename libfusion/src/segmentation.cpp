@@ -15,6 +15,9 @@ namespace sonarfusion {
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kNoRaiseLimit = std::numeric_limits<double>::infinity();  // usableSurface: keep every column
+
+// No update ever reached the voxel: log-odds at the prior, no flag.
+bool neverUpdated(const VoxelMap& map, std::size_t i) { return map.logOdds(i) == 0.0f && map.flags(i) == 0; }
 }
 
 Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation, const VoxelMap& map)
@@ -39,6 +42,8 @@ Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation,
         scratch_.assign(cols, kNaN);
     }
     if (cfg.seabed_from_ps_echoes && cfg.seabed_raised_sigmas > 0.0) residual_.assign(cols, 0.0);
+    if (cfg.fill_below_objects && cfg.fill_below_through_unobserved && cfg.fill_below_widens_through_unobserved)
+        column_ps_.assign(cols, 0);
     objects_.reserve(cfg.max_objects);
 }
 
@@ -402,6 +407,15 @@ bool Segmenter::confirmedByPs(const VoxelMap& map, std::size_t voxel) const {
     return confirmed_[voxel] != 0;
 }
 
+bool Segmenter::besideOccupied(const VoxelMap& map, const VoxelIndex& c) const {
+    constexpr int kSide[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+    for (const auto& d : kSide) {
+        const VoxelIndex n{c.x + d[0], c.y + d[1], c.z};
+        if (map.contains(n) && occupied_[map.linear(n)]) return true;
+    }
+    return false;
+}
+
 // base_follows_sloped_faces: c, above the seabed's own voxel, is the foot of a
 // face that recedes upward in the direction (-dx, -dy) one voxel per layer over
 // three layers (0.3 m of face at 0.1 m voxels): the voxels k layers up and k
@@ -429,6 +443,18 @@ bool Segmenter::recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, i
 void Segmenter::label(const VoxelMap& map) {
     const double res = map.resolution();
     const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
+    // The columns some PS ray reached (fill_below_widens_through_unobserved),
+    // in a map the FLS updated too: without the FLS's free space, the water
+    // beside an object that only it would have seen is unobserved as well
+    // (carve_only), and no update reaching a voxel says nothing of a shadow.
+    if (!column_ps_.empty()) {
+        std::fill(column_ps_.begin(), column_ps_.end(), 0);
+        bool fls_mapped = false;
+        for (std::size_t i = 0; i < map.size() && !fls_mapped; ++i) fls_mapped = map.flsTouched(i);
+        if (fls_mapped)
+            for (std::size_t i = 0; i < map.size(); ++i)
+                if (map.psObserved(i)) column_ps_[i % layer] = 1;
+    }
     // Candidates: occupied, above the seabed surface, PS-observed if required.
     // Label -1 marks those clearly above it (min_object_height), which may seed
     // an object; -2 those between the surface and that height, which may only
@@ -438,10 +464,12 @@ void Segmenter::label(const VoxelMap& map) {
         if (!occupied_[i]) {
             // A voxel no update ever reached (prior log-odds, no flag) lies in
             // the shadow of what is above it: below an object, its body. The
-            // fill below may pass through it (fill_below_through_unobserved).
-            if (cfg_.fill_below_objects && cfg_.fill_below_through_unobserved && map.logOdds(i) == 0.0f &&
-                map.flags(i) == 0 && aboveBaseline(map, i, -0.5 * res))
-                label_[i] = -4;
+            // fill below may pass through it (fill_below_through_unobserved),
+            // in a column the PS swept also widening (-8,
+            // fill_below_widens_through_unobserved).
+            if (cfg_.fill_below_objects && cfg_.fill_below_through_unobserved && neverUpdated(map, i) &&
+                aboveBaseline(map, i, -0.5 * res))
+                label_[i] = !column_ps_.empty() && column_ps_[i % layer] ? -8 : -4;
             continue;
         }
         // The voxel the seabed surface runs through (its box holds the
@@ -525,6 +553,12 @@ void Segmenter::label(const VoxelMap& map) {
                         // Unconfirmed occupied voxels join only straight down from the
                         // object: under its top, where the PS is shadowed.
                         if (label_[nl] == -4 && !(dz == 1 && dx == 0 && dy == 0)) continue;
+                        // An unobserved voxel in a column the PS swept (-8) joins straight
+                        // down too, and one step sideways from a voxel no update reached
+                        // either, unless a surface a sensor saw stands beside it.
+                        if (label_[nl] == -8 &&
+                            (dz != 1 || ((dx != 0 || dy != 0) && (!neverUpdated(map, v) || besideOccupied(map, n)))))
+                            continue;
                         // The voxel the seabed runs through (-6) joins straight down, and
                         // one step across from the foot of a face that recedes upward
                         // (base_follows_sloped_faces). Only from a voxel above the

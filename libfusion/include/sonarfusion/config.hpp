@@ -407,6 +407,20 @@ struct SegmentationConfig {
     // seabed fills it (a horizontal cylinder's lower flank under its bulge).
     // Open space under an overhang is seen from the side, so it is not unobserved.
     bool fill_below_through_unobserved = true;
+    // With fill_below_through_unobserved: under a voxel of the object that no
+    // update reached either, the fill may also step one voxel sideways per layer
+    // down (the lattice's diagonal), through voxels no update reached, in
+    // columns some PS ray reached (elsewhere unobserved means outside the
+    // swath, not hidden by the object), in maps the FLS updated too (without
+    // its free space the water beside an object is unobserved as well:
+    // carve_only), and never beside an occupied voxel (a surface a sensor saw
+    // bounds the object there). A face sloping away from
+    // every pose (past a pyramid's apex; a cone's far flank flown once off the
+    // track) lies beyond each PS ping's first echo and returns to the FLS at
+    // the noise level: nothing carved it, and straight down from the part the
+    // sensors saw does not reach it (docs/algorithm.md, "The fill below widens
+    // through what no sensor observed"). False: straight down only.
+    bool fill_below_widens_through_unobserved = true;
     // With seabed_from_ps_echoes: the seabed fit starts from the lower
     // envelope of the echo height field (a morphological opening over
     // baseline_window) instead of a plane through every column, so an object

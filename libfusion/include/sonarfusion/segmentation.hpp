@@ -69,6 +69,8 @@ private:
     void smoothBaseline(const VoxelMap& map, double raise_limit);
     void smoothBaselineAlongTrack(int half, double raise_limit);
     [[nodiscard]] bool aboveBaseline(const VoxelMap& map, std::size_t voxel, double margin) const;
+    // Whether a voxel beside c in its own layer (4-neighbourhood) is occupied.
+    [[nodiscard]] bool besideOccupied(const VoxelMap& map, const VoxelIndex& c) const;
     [[nodiscard]] bool recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, int dy) const;
     void markConfirmed(const VoxelMap& map);
     void dropWaterAboveEchoes(const VoxelMap& map);
@@ -92,6 +94,7 @@ private:
     std::vector<double> sat_plane_;          // 9 summed-area tables for local plane fits
     std::vector<double> eroded_, scratch_;   // per column, for the lower envelope
     std::vector<double> residual_;           // per column, for the residuals' scatter
+    std::vector<uint8_t> column_ps_;         // per column: a PS ray reached one of its voxels
     std::vector<ObjectInfo> objects_;    // capacity max_objects
     SegmentationStats stats_;
     Eigen::Vector2d along_track_ = Eigen::Vector2d::Zero();  // unit (north, east), or zero
