@@ -97,16 +97,22 @@ def offline_map(build, cfg, log, out, name, extra=()):
 
 
 def read_map(path):
-    """(log-odds list, occupied index set) of a map file (apps/common/map_file.cpp)."""
+    """The occupied voxels of a map file (apps/common/map_file.cpp) as world-lattice keys
+    (origin / resolution + index): two maps anchored at different origins compare voxel by voxel."""
     b = open(path, "rb").read()
     nx, ny, nz = struct.unpack_from("<3i", b, 8)
+    res, ox, oy, oz = struct.unpack_from("<4d", b, 20)
     off = 8 + 12 + 32 + 8 + 1
     (vlen,) = struct.unpack_from("<I", b, off)
     off += 4 + vlen
     n = nx * ny * nz
     lo = struct.unpack_from(f"<{n}f", b, off)
-    occ = {i for i, v in enumerate(lo) if v > 0.8473}  # p > 0.7, the segmentation threshold
-    return lo, occ
+    base = [round(c / res) for c in (ox, oy, oz)]  # origins lie on the world lattice (the map snaps to it)
+    occ = set()
+    for i, v in enumerate(lo):
+        if v > 0.8473:  # p > 0.7, the segmentation threshold
+            occ.add((base[0] + i % nx, base[1] + (i // nx) % ny, base[2] + i // (nx * ny)))
+    return (ox, oy, oz), occ
 
 
 def fresh_checkpoint(out):
@@ -181,12 +187,17 @@ wait $pid
     run(["unshare", "-n", "bash", "-c", script], env=env)
     loads = open(f"{out}/loads.txt").read().split()
     check(loads == ["ok", "ok", "ok"], f"every checkpoint on disk after a SIGKILL loads ({loads})")
-    ref_lo, ref_occ = read_map(ref)
-    lo, occ = read_map(f"{out}/live.map")
+    # In world coordinates: a kill before the map is anchored loses the pings
+    # the detector would have fired on, and the map a later ping anchors may
+    # lie a voxel off (its centre is the echo that fired the detector); by
+    # index alone a one-voxel shift reads as IoU ~0.8 for the same object.
+    ref_origin, ref_occ = read_map(ref)
+    origin, occ = read_map(f"{out}/live.map")
     union = len(ref_occ | occ)
     agree = len(ref_occ & occ) / union if union else 1.0
     status = json.load(open(f"{out}/live.json"))
     print(f"occupied voxels: uninterrupted {len(ref_occ)}, killed 3x {len(occ)}, agreement (IoU) {agree:.3f}; "
+          f"origins {ref_origin} / {origin}; "
           f"FLS used {status['fls_used']} of 800, PS {status['ps_used']}, objects {status['objects']}")
     # Tolerance: three outages of about 0.1 s (restart) plus up to one checkpoint
     # period (0.5 s of data = 1/16 s live) each lose a few % of the messages;
