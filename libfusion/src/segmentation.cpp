@@ -450,10 +450,11 @@ void Segmenter::label(const VoxelMap& map) {
     if (!column_ps_.empty()) {
         std::fill(column_ps_.begin(), column_ps_.end(), 0);
         bool fls_mapped = false;
-        for (std::size_t i = 0; i < map.size() && !fls_mapped; ++i) fls_mapped = map.flsTouched(i);
-        if (fls_mapped)
-            for (std::size_t i = 0; i < map.size(); ++i)
-                if (map.psObserved(i)) column_ps_[i % layer] = 1;
+        for (std::size_t i = 0; i < map.size(); ++i) {
+            fls_mapped = fls_mapped || map.flsTouched(i);
+            if (map.psObserved(i)) column_ps_[i % layer] = 1;
+        }
+        if (!fls_mapped) std::fill(column_ps_.begin(), column_ps_.end(), 0);
     }
     // Candidates: occupied, above the seabed surface, PS-observed if required.
     // Label -1 marks those clearly above it (min_object_height), which may seed
