@@ -152,6 +152,7 @@ DaemonConfig parse(const YAML::Node& root) {
         g.fls_votes_per_ps_crossing = std::isfinite(per) && per > 0.0 ? per : 0.0;  // votes that add nothing: off
     }
     seg.read("base_follows_sloped_faces", g.base_follows_sloped_faces);
+    seg.read("join_touching_floods", g.join_touching_floods);
     seg.read("fill_below_objects", g.fill_below_objects);
     seg.read("fill_below_through_unobserved", g.fill_below_through_unobserved);
     seg.read("fill_below_widens_through_unobserved", g.fill_below_widens_through_unobserved);

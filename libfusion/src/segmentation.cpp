@@ -31,6 +31,8 @@ Segmenter::Segmenter(const SegmentationConfig& cfg, bool require_ps_observation,
     if (require_ps_ && cfg.ps_echo_radius >= 0) confirmed_.assign(map.size(), 0);
     label_.assign(map.size(), 0);
     queue_.assign(map.size(), 0);
+    join_class_.assign(map.size(), 0);
+    merged_into_.assign(static_cast<std::size_t>(cfg.max_objects) + 2, 0);
     const std::size_t cols = static_cast<std::size_t>(nx_) * ny_;
     surface_.assign(cols, kNaN);
     baseline_.assign(cols, kNaN);
@@ -516,7 +518,58 @@ void Segmenter::label(const VoxelMap& map) {
         label_[i] = aboveBaseline(map, i, cfg_.min_object_height) ? -1 : -2;
         ++stats_.candidate_voxels;
     }
-    // 26-connected flood fill.
+    // 26-connected flood fill. Each voxel keeps the code it was joined by
+    // (join_class_), so a later flood that reaches it can ask the same rule
+    // (join_touching_floods).
+    const bool join = cfg_.join_touching_floods;
+    constexpr int32_t kDropped = -9;  // a group too small (or beyond max_objects): later floods may take it
+    const auto root = [this](int id) {
+        while (merged_into_[id] != id) id = merged_into_[id] = merged_into_[merged_into_[id]];
+        return id;
+    };
+    // Folds object `from`'s sums (centroid holds the sum of centres until the end) into `into`.
+    const auto fold = [this](ObjectInfo& into, const ObjectInfo& from) {
+        into.voxel_count += from.voxel_count;
+        into.centroid += from.centroid;
+        into.bbox_min = into.bbox_min.cwiseMin(from.bbox_min);
+        into.bbox_max = into.bbox_max.cwiseMax(from.bbox_max);
+        into.height_m = std::max(into.height_m, from.height_m);
+    };
+    // Whether voxel n (label code `code`) joins the object flooding from voxel v (at c, one
+    // step d away) whose highest layer is top_layer.
+    const auto mayJoin = [&](int code, std::size_t v, const VoxelIndex& c, const VoxelIndex& n, int dx, int dy, int dz,
+                             int top_layer) {
+        // A low voxel joins only from the layer above it (NED: dz = +1
+        // is one layer deeper), so the object's foot cannot walk
+        // along the seabed surface, which also lies in the low band.
+        if (code == -2 && cfg_.low_layers_from_above && dz != 1) return false;
+        // Unconfirmed occupied voxels join only straight down from the
+        // object: under its top, where the PS is shadowed.
+        if (code == -4 && !(dz == 1 && dx == 0 && dy == 0)) return false;
+        // An unobserved voxel in a column the PS swept (-8) joins straight
+        // down too, and one step sideways from a voxel no update reached
+        // either, unless a surface a sensor saw stands beside it.
+        if (code == -8 && (dz != 1 || ((dx != 0 || dy != 0) && (!neverUpdated(map, v) || besideOccupied(map, n)))))
+            return false;
+        // The voxel the seabed runs through (-6) joins straight down, and
+        // one step across from the foot of a face that recedes upward
+        // (base_follows_sloped_faces). Only from a voxel above the
+        // seabed's own voxel, so the join never walks along the seabed
+        // where it steps a layer.
+        if (code == -6 && !(dz == 1 && dx == 0 && dy == 0) && !(dz == 1 && recedingFoot(map, c, dx, dy)))
+            return false;
+        // FLS-only voxels stay within one layer of that top
+        // (fls_only_not_above_ps_top): above it, elevation aliases.
+        if ((code == -5 || code == -3) && cfg_.fls_only_not_above_ps_top && n.z < top_layer - 1) return false;
+        // A voxel the PS crossed joins no higher than that top, and only
+        // from its own layer or the one above: were it surface standing
+        // above the object, the rays that crossed it would have met it
+        // first (a fin over a top edge, where NAV drift shifts the passes).
+        if (code == -7 && (n.z < top_layer || n.z < c.z)) return false;
+        // FLS-only steps from the PS-confirmed part: at most fls_only_extension.
+        if (code == -3 && confirmed_[v] + 1 > cfg_.fls_only_extension) return false;
+        return true;
+    };
     int next_id = 0;
     for (std::size_t seed = 0; seed < map.size(); ++seed) {
         if (label_[seed] != -1) continue;
@@ -527,11 +580,13 @@ void Segmenter::label(const VoxelMap& map) {
         std::size_t head = 0, tail = 0;
         queue_[tail++] = static_cast<uint32_t>(seed);
         label_[seed] = id;
+        join_class_[seed] = 1;
         if (!confirmed_.empty()) confirmed_[seed] = 0;  // from here on: FLS-only steps from the PS-confirmed part
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
         VoxelIndex lo{nx_, ny_, nz_}, hi{-1, -1, -1};
         double top_height = 0.0;
         int seabed_joined = 0;  // voxels the seabed runs through: they never make an object big enough
+        int joins = 0;          // the earlier object this flood touched (its root id), 0: none
         while (head < tail) {
             const std::size_t v = queue_[head++];
             const VoxelIndex c = map.fromLinear(v);
@@ -546,72 +601,84 @@ void Segmenter::label(const VoxelMap& map) {
                         const VoxelIndex n{c.x + dx, c.y + dy, c.z + dz};
                         if (!map.contains(n)) continue;
                         const std::size_t nl = map.linear(n);
-                        if (label_[nl] >= 0) continue;
-                        // A low voxel joins only from the layer above it (NED: dz = +1
-                        // is one layer deeper), so the object's foot cannot walk
-                        // along the seabed surface, which also lies in the low band.
-                        if (label_[nl] == -2 && cfg_.low_layers_from_above && dz != 1) continue;
-                        // Unconfirmed occupied voxels join only straight down from the
-                        // object: under its top, where the PS is shadowed.
-                        if (label_[nl] == -4 && !(dz == 1 && dx == 0 && dy == 0)) continue;
-                        // An unobserved voxel in a column the PS swept (-8) joins straight
-                        // down too, and one step sideways from a voxel no update reached
-                        // either, unless a surface a sensor saw stands beside it.
-                        if (label_[nl] == -8 &&
-                            (dz != 1 || ((dx != 0 || dy != 0) && (!neverUpdated(map, v) || besideOccupied(map, n)))))
+                        const int taken = label_[nl];  // > 0: an earlier object; kDropped: a group too small
+                        if (taken == 0 || taken == id) continue;
+                        const bool earlier = taken > 0 || taken == kDropped;
+                        if (earlier && !join) continue;
+                        const int code = earlier ? -static_cast<int>(join_class_[nl]) : taken;
+                        bool may = mayJoin(code, v, c, n, dx, dy, dz, top_layer);
+                        // What an earlier flood took is the same object, flooded from
+                        // another seed, wherever the two touch above the seabed's own
+                        // voxel (there, two objects' feet would meet along the seabed).
+                        if (earlier && !may) may = join_class_[nl] != 6 && join_class_[v] != 6;
+                        if (!may) continue;
+                        if (taken > 0) {  // two earlier objects this flood touches become one too
+                            const int r = root(taken);
+                            if (joins == 0) {
+                                joins = r;
+                            } else if (r != joins) {
+                                const int keep = std::min(r, joins), gone = std::max(r, joins);
+                                fold(objects_[static_cast<std::size_t>(keep - 1)], objects_[static_cast<std::size_t>(gone - 1)]);
+                                merged_into_[gone] = keep;
+                                joins = keep;
+                            }
                             continue;
-                        // The voxel the seabed runs through (-6) joins straight down, and
-                        // one step across from the foot of a face that recedes upward
-                        // (base_follows_sloped_faces). Only from a voxel above the
-                        // seabed's own voxel, so the join never walks along the seabed
-                        // where it steps a layer.
-                        if (label_[nl] == -6 && !(dz == 1 && dx == 0 && dy == 0) &&
-                            !(dz == 1 && recedingFoot(map, c, dx, dy)))
-                            continue;
-                        // FLS-only voxels stay within one layer of that top
-                        // (fls_only_not_above_ps_top): above it, elevation aliases.
-                        if ((label_[nl] == -5 || label_[nl] == -3) && cfg_.fls_only_not_above_ps_top &&
-                            n.z < top_layer - 1)
-                            continue;
-                        // A voxel the PS crossed joins no higher than that top, and only
-                        // from its own layer or the one above: were it surface standing
-                        // above the object, the rays that crossed it would have met it
-                        // first (a fin over a top edge, where NAV drift shifts the passes).
-                        if (label_[nl] == -7 && (n.z < top_layer || n.z < c.z)) continue;
-                        if (label_[nl] == -3) {
-                            const int steps = confirmed_[v] + 1;
-                            if (steps > cfg_.fls_only_extension) continue;
-                            confirmed_[nl] = static_cast<uint8_t>(steps);
-                        } else if (!confirmed_.empty()) {
-                            confirmed_[nl] = 0;
                         }
-                        if (label_[nl] == -6) ++seabed_joined;
+                        if (code == -3) confirmed_[nl] = static_cast<uint8_t>(std::min(confirmed_[v] + 1, 255));
+                        else if (!confirmed_.empty()) confirmed_[nl] = 0;
+                        if (code == -6) ++seabed_joined;
+                        join_class_[nl] = static_cast<uint8_t>(-code);
                         label_[nl] = id;
                         queue_[tail++] = static_cast<uint32_t>(nl);
                     }
         }
         const int count = static_cast<int>(tail);
-        const int above_seabed = count - seabed_joined;
-        if (above_seabed < cfg_.min_object_voxels || static_cast<int>(objects_.size()) >= cfg_.max_objects) {
-            if (above_seabed >= cfg_.min_object_voxels) ++stats_.objects_dropped;
-            for (std::size_t q = 0; q < tail; ++q) label_[queue_[q]] = 0;  // too small: not an object
-            --next_id;
-            continue;
-        }
         ObjectInfo o;
-        o.id = id;
         o.voxel_count = count;
-        o.volume_m3 = count * res * res * res;
-        o.centroid = sum / count;
+        o.centroid = sum;  // the sum until the end
         o.bbox_min = map.origin() + Eigen::Vector3d(lo.x, lo.y, lo.z) * res;
         o.bbox_max = map.origin() + Eigen::Vector3d(hi.x + 1, hi.y + 1, hi.z + 1) * res;
         o.height_m = top_height;
         o.ps_confirmed = require_ps_;  // seeds are PS-confirmed exactly when the variant requires it
+        if (joins) {  // part of an earlier object: its voxels take that id
+            fold(objects_[static_cast<std::size_t>(joins - 1)], o);
+            for (std::size_t q = 0; q < tail; ++q) label_[queue_[q]] = joins;
+            --next_id;
+            continue;
+        }
+        const int above_seabed = count - seabed_joined;
+        if (above_seabed < cfg_.min_object_voxels || static_cast<int>(objects_.size()) >= cfg_.max_objects) {
+            if (above_seabed >= cfg_.min_object_voxels) ++stats_.objects_dropped;
+            // Too small: not an object (a later flood may still reach it).
+            for (std::size_t q = 0; q < tail; ++q) label_[queue_[q]] = join ? kDropped : 0;
+            --next_id;
+            continue;
+        }
+        o.id = id;
+        merged_into_[id] = id;
         objects_.push_back(o);
     }
+    // Objects that joined another leave the list; the rest are numbered 1..n
+    // again, in order. A merge keeps the lower id, so a root precedes the ids
+    // that joined it: merged_into_ ends as minus each old id's new number.
+    const int floods = static_cast<int>(objects_.size());
+    for (int old_id = 1; old_id <= floods; ++old_id) merged_into_[old_id] = root(old_id);
+    std::size_t kept = 0;
+    for (int old_id = 1; old_id <= floods; ++old_id) {
+        if (merged_into_[old_id] != old_id) {
+            merged_into_[old_id] = merged_into_[merged_into_[old_id]];
+            continue;
+        }
+        ObjectInfo o = objects_[static_cast<std::size_t>(old_id - 1)];
+        o.id = static_cast<int>(kept) + 1;
+        o.centroid /= o.voxel_count;
+        o.volume_m3 = o.voxel_count * res * res * res;
+        objects_[kept++] = o;
+        merged_into_[old_id] = -o.id;
+    }
+    objects_.resize(kept);
     // Low candidates that no seed reached belong to no object.
-    for (std::size_t i = 0; i < map.size(); ++i)
-        if (label_[i] < 0) label_[i] = 0;
+    for (std::size_t i = 0; i < map.size(); ++i) label_[i] = label_[i] > 0 ? -merged_into_[label_[i]] : 0;
     stats_.objects = static_cast<int>(objects_.size());
 }
 

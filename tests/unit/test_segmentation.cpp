@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "sonarfusion/segmentation.hpp"
 #include "sonarfusion/track_axis.hpp"
 
@@ -616,6 +618,51 @@ TEST(SegmentationEchoField, TheBaseOfASlopedFaceReachesOneVoxelOutInTheSeabedVox
     EXPECT_EQ(objectVoxels(false, 45, 47, 45, 47, 13), 21);
     EXPECT_EQ(objectVoxels(true, 45, 47, 45, 47, 13), 0);
     EXPECT_EQ(objectVoxels(true, 45, 47, 45, 47, 12), 21);
+}
+
+// One object flooded from two seeds is one object. Two towers with echoes on
+// their tops stand one voxel apart; between them only their lowest layer
+// (0.1 m over the seabed, below min_object_height) is there: a ring whose
+// sides the maps hold only low, as the probe tyre's (docs/algorithm.md, "One
+// object, one flood"). The first tower's flood takes that low voxel from
+// above; the second's cannot (a low voxel joins only from the layer above,
+// and it is no voxel above it), so before join_touching_floods it came out as
+// a second object beside the first. Two towers with nothing between them stay
+// two objects.
+TEST(SegmentationEchoField, AnObjectFloodedFromTwoSeedsIsOneObject) {
+    const auto objects = [](bool rule, bool notch) {
+        VoxelMap m{MapConfig{}};
+        const auto tower = [](int ix) { return (ix >= 40 && ix <= 44) || (ix >= 46 && ix <= 50); };
+        buildEchoedSeabed(m, 20, 80, [&](int ix, int iy) { return ix >= 40 && ix <= 50 && iy >= 45 && iy <= 50; });
+        for (int iy = 45; iy <= 50; ++iy)
+            for (int ix = 40; ix <= 50; ++ix) {
+                if (tower(ix)) {
+                    for (int iz = 75; iz < 80; ++iz) m.add(m.linear({ix, iy, iz}), 3.0f);
+                    for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 75}));
+                } else if (notch) {  // the low voxel between them, echoed
+                    m.add(m.linear({ix, iy, 79}), 3.0f);
+                    for (int e = 0; e < 8; ++e) m.addPsEcho(m.linear({ix, iy, 79}));
+                }
+            }
+        SegmentationConfig cfg;
+        cfg.join_touching_floods = rule;
+        Segmenter seg(cfg, true, m);
+        seg.run(m);
+        std::vector<int> counts;
+        for (const ObjectInfo& o : seg.objects()) counts.push_back(o.voxel_count);
+        // Every labelled voxel carries the id of a reported object.
+        for (std::size_t i = 0; i < m.size(); ++i) {
+            EXPECT_LE(seg.objectLabel(i), static_cast<int>(seg.objects().size()));
+        }
+        return counts;
+    };
+    const std::vector<int> old_rule = objects(false, true);
+    ASSERT_EQ(old_rule.size(), 2u) << "the old rule: the second tower's flood stops at the first's low voxel";
+    const std::vector<int> joined = objects(true, true);
+    ASSERT_EQ(joined.size(), 1u);
+    EXPECT_EQ(joined[0], old_rule[0] + old_rule[1]) << "one object: both floods' voxels, none twice";
+    EXPECT_GE(joined[0], 2 * 5 * 6 * 5 + 6) << "both towers and the low voxels between them";
+    EXPECT_EQ(objects(true, false).size(), 2u) << "towers one voxel apart, nothing between: two objects";
 }
 
 // Outside the PS swath the FLS alone sees an object's far side. Where its

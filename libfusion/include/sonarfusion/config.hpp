@@ -329,6 +329,15 @@ struct SegmentationConfig {
     // that band too, carry an object out along the whole seabed.
     bool low_layers_from_above = true;
     int max_objects = 64;               // fixed-size result
+    // The flood fill's join rules are one-way (a low voxel joins only from
+    // above, a seabed voxel only straight down, ...), so which voxels an
+    // object takes depends on where its flood started: a ring flooded from its
+    // two highest points came out as two objects side by side. With this on,
+    // a flood that reaches a voxel an earlier object took, by the rule that
+    // voxel was taken by, joins that object, and one that reaches a group
+    // dropped as too small takes it over (docs/algorithm.md, "One object, one
+    // flood"). False: each flood keeps only what it reached first.
+    bool join_touching_floods = true;
     // Voxels no PS ray ever crossed or ended in (outside the PS swath, inside
     // the wider FLS fan) may extend a PS-confirmed object by up to this many
     // voxels (26-connected steps), on FLS evidence alone; they never seed one.

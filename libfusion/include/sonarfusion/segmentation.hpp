@@ -88,6 +88,8 @@ private:
     std::vector<uint8_t> confirmed_;     // per voxel: a PS echo within ps_echo_radius
     std::vector<int32_t> label_;         // per voxel
     std::vector<uint32_t> queue_;        // flood-fill queue, one slot per voxel
+    std::vector<uint8_t> join_class_;    // per voxel: the label code (negated) it was joined by
+    std::vector<int32_t> merged_into_;   // per object id: the id it joined (itself while it stands)
     std::vector<double> surface_;        // per column: depth of the seabed surface seen, NaN none
     std::vector<double> baseline_;       // per column: smoothed seabed depth
     std::vector<double> sat_sum_, sat_cnt_;  // summed-area tables, (nx+1)*(ny+1)
