@@ -333,10 +333,11 @@ struct SegmentationConfig {
     // above, a seabed voxel only straight down, ...), so which voxels an
     // object takes depends on where its flood started: a ring flooded from its
     // two highest points came out as two objects side by side. With this on,
-    // a flood that reaches a voxel an earlier object took, by the rule that
-    // voxel was taken by, joins that object, and one that reaches a group
-    // dropped as too small takes it over (docs/algorithm.md, "One object, one
-    // flood"). False: each flood keeps only what it reached first.
+    // a flood that touches a voxel an earlier flood took (by the rule that
+    // voxel joins by, or anywhere above the seabed's own voxel) joins that
+    // object when it was kept, and takes the voxel over when its group was
+    // dropped as too small (docs/algorithm.md, "One object, one flood").
+    // False: each flood keeps only what it reached first.
     bool join_touching_floods = true;
     // Voxels no PS ray ever crossed or ended in (outside the PS swath, inside
     // the wider FLS fan) may extend a PS-confirmed object by up to this many
