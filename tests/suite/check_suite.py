@@ -7,6 +7,10 @@ With objects (expected count n >= 1), on the fused variant:
   - detected: the fused map's segmented object count >= n;
   - precision >= 0.85 and visible recall >= 0.85;
   - F1 = 2PR/(P+R) >= max(F1 of fls_only, F1 of carve_only) (no predicted voxel: P undefined, F1 = 0).
+  When the fused mapper opened more than one map (OUTDIR/survey.json, sf-eval's survey scoring of
+  all of them), detection is every true object found in some map, and precision and visible recall
+  are each true object's own, in the map of its match; the F1 bar stays on the first maps, the only
+  ones all four variants have.
 Object-free (n == 0): sf-eval must have scored the maps and the fused map must report no object;
   when sf-eval could not score the run, the fused mapper's own final object count is shown (and
   judged) instead, and the missing report is a failure of its own.
@@ -103,6 +107,12 @@ def check(scenario_path, out_dir, expectations_path):
     expectations = load_expectations(expectations_path)
     meshes = object_meshes_in(scenario_path)
     report, report_err = read_json(os.path.join(out_dir, "report.json"))
+    survey = None
+    if os.path.exists(os.path.join(out_dir, "survey.json")):
+        survey, survey_err = read_json(os.path.join(out_dir, "survey.json"))
+        if survey is None or survey.get("mode") != "survey":
+            bar(False, f"survey scoring of the fused maps: {survey_err or 'survey.json is not a survey report'}")
+            survey = None
     from_eval = objects_true_in(report)
     if name not in expectations and from_eval is None:
         bar(False, f"no expected object count for {name} in {expectations_path}")
@@ -151,19 +161,23 @@ def check(scenario_path, out_dir, expectations_path):
             fused = result["variants"].get("fused")
             if fused is None:
                 bar(False, "report.json has no fused variant")
+            elif survey is not None:
+                judge_survey(survey, expected, bar, result)
             else:
                 found = fused["objects"]
                 bar(found is not None and found >= expected, f"detected: fused objects {found} (bar >= {expected} true)")
                 p, r = fused["precision"], fused["recall_visible"]
                 bar(p is not None and p >= MIN_PRECISION, f"fused precision {fmt(p)} (bar {MIN_PRECISION})")
                 bar(r is not None and r >= MIN_RECALL_VISIBLE, f"fused recall_visible {fmt(r)} (bar {MIN_RECALL_VISIBLE})")
+            if fused is not None:
                 alone = {v: result["variants"][v]["f1"] for v in ("fls_only", "carve_only") if v in result["variants"]}
+                where = " on the first maps" if survey is not None else ""
                 if len(alone) < 2:
                     bar(False, "report.json lacks fls_only or carve_only: F1 bar not checked")
                 else:
                     best = max(alone, key=alone.get)
                     bar(fused["f1"] + 1e-12 >= alone[best],
-                        f"fused F1 {fused['f1']:.3f} (bar >= max(fls_only {alone['fls_only']:.3f}, "
+                        f"fused F1 {fused['f1']:.3f}{where} (bar >= max(fls_only {alone['fls_only']:.3f}, "
                         f"carve_only {alone['carve_only']:.3f}))")
     result["failures"] = failures
     result["passed"] = not failures
@@ -175,6 +189,27 @@ def check(scenario_path, out_dir, expectations_path):
         print(f"{name}: {len(failures)} bar(s) missed", file=sys.stderr)
         return 1
     return 0
+
+
+def judge_survey(survey, expected, bar, result):
+    """Detection and per-object bars over every map the fused mapper opened (sf-eval --map-dir)."""
+    det = survey.get("detection", {})
+    objects = survey.get("objects", [])
+    bar(det.get("true") == expected, f"survey scoring's true objects {det.get('true')} vs expected {expected}")
+    bar(det.get("found") == det.get("true"),
+        f"detected over {det.get('maps')} maps (survey scoring): found {det.get('found')} of {det.get('true')} "
+        f"true objects ({det.get('false')} false, {det.get('duplicates')} of them duplicates)")
+    for o in objects:
+        if not o.get("found"):
+            continue
+        p, r = o.get("precision"), o.get("recall_visible")
+        where = f"{o.get('name')} (map {o.get('map_id')})"
+        bar(p is not None and p >= MIN_PRECISION, f"fused precision of {where} {fmt(p)} (bar {MIN_PRECISION})")
+        bar(r is not None and r >= MIN_RECALL_VISIBLE,
+            f"fused recall_visible of {where} {fmt(r)} (bar {MIN_RECALL_VISIBLE})")
+    result["survey"] = {"detection": det, "objects": [
+        {k: o.get(k) for k in ("name", "found", "map_id", "precision", "recall_visible", "chamfer_cm")}
+        for o in objects]}
 
 
 def fmt(x):

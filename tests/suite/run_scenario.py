@@ -2,6 +2,12 @@
 """One suite scenario end to end: sf-sim -> sf-mapper (all four variants, from the one recorded
 log) -> sf-eval (the mapper's config, PNG figures, no PLY) -> check_suite.py (the bars of issue 9).
 
+sf-eval scores each variant's first map (`--map-out`). The fused mapper also writes every map it
+opened (`--map-dir OUTDIR/fused_maps`); when it opened more than one (objects farther apart than a
+map holds), sf-eval scores them all as a survey (`--map-dir`, OUTDIR/survey.json) and
+check_suite.py judges detection and each object's precision and recall on that. With one map the
+folder is removed again (its map is fused.map).
+
 usage: run_scenario.py SCENARIO.yaml MAPPER_YAML OUTDIR SF_SIM SF_MAPPER SF_EVAL EXPECTATIONS.yaml
                        [--budget SECONDS]
 
@@ -11,8 +17,10 @@ never cuts the record short) is a test failure with its message, and the later s
 on what exists, so suite_table.py has something to show. The LCM log is deleted afterwards
 (SF_SUITE_KEEP_LOG=1 keeps it). Exit 0 only when every step ran and every bar holds.
 """
+import glob
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -44,7 +52,9 @@ def main(argv):
         sys.exit(__doc__)
     scenario, config, out, sim, mapper, evaluator, expectations = argv
     os.makedirs(out, exist_ok=True)
-    for stale in ["report.json", "check.json", "steps.json", "run.lcmlog"] + [f"{v}.map" for v in VARIANTS] \
+    maps_dir = os.path.join(out, "fused_maps")
+    shutil.rmtree(maps_dir, ignore_errors=True)
+    for stale in ["report.json", "survey.json", "check.json", "steps.json", "run.lcmlog"] + [f"{v}.map" for v in VARIANTS] \
             + [f"{v}.status.json" for v in VARIANTS]:
         if os.path.exists(os.path.join(out, stale)):
             os.remove(os.path.join(out, stale))
@@ -78,15 +88,23 @@ def main(argv):
     lcmlog = os.path.join(out, "run.lcmlog")
     if run("sf-sim", [sim, "--scenario", scenario, "--log", lcmlog, "--threads", "1", "--quiet"], "sim.txt"):
         maps = []
+        os.makedirs(maps_dir)
         for v in VARIANTS:
             m = os.path.join(out, f"{v}.map")
+            every_map = ["--map-dir", maps_dir] if v == "fused" else []
             if run(f"sf-mapper {v}", [mapper, "--config", config, "--log", lcmlog, "--map-out", m, "--variant", v,
-                                       "--status-out", os.path.join(out, f"{v}.status.json")], f"{v}.mapper.txt"):
+                                       "--status-out", os.path.join(out, f"{v}.status.json")] + every_map,
+                   f"{v}.mapper.txt"):
                 maps += ["--map", f"{v}={m}"]
         if maps:
             run("sf-eval", [evaluator, "--scenario", scenario, "--config", config] + maps
                 + ["--json", os.path.join(out, "report.json"), "--figures", os.path.join(out, "figures"), "--no-ply"],
                 "eval.txt")
+        if len(glob.glob(os.path.join(maps_dir, "map_*.map"))) > 1:
+            run("sf-eval survey", [evaluator, "--scenario", scenario, "--config", config, "--map-dir", maps_dir,
+                                   "--json", os.path.join(out, "survey.json")], "survey.txt")
+        else:
+            shutil.rmtree(maps_dir, ignore_errors=True)
     if os.path.exists(lcmlog) and os.environ.get("SF_SUITE_KEEP_LOG") != "1":
         os.remove(lcmlog)
     with open(os.path.join(out, "steps.json"), "w") as f:

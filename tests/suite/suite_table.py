@@ -98,10 +98,20 @@ def main(argv):
                 fails = check.get("failures", [])
                 bars = "pass" if ok else "FAIL: " + "; ".join(fails)
             rows.append(f"| {name} | {v} | " + " | ".join(cells) + f" | {found}/{n_true} | {bars} |")
+        survey = check.get("survey")
+        if survey:
+            # The fused mapper opened several maps: each true object in the map of its match, worst first.
+            objs = [o for o in survey.get("objects", []) if o.get("found")]
+            worst_p = min((o["precision"] for o in objs if o.get("precision") is not None), default=None)
+            worst_r = min((o["recall_visible"] for o in objs if o.get("recall_visible") is not None), default=None)
+            det = survey.get("detection", {})
+            rows.append(f"| {name} | fused, all {det.get('maps')} maps (worst object) | {num(worst_p)} | {num(worst_r)} | "
+                        f"{num(f1(worst_p, worst_r))} | — | {det.get('found')}/{det.get('true')} | |")
     rows.append("")
     rows.append(f"{passed} of {len(names)} scenarios meet every bar, {failed} miss at least one, {missing} did not run"
                 f" (scenario runtime {runtime:.0f} s in total). `*`: no sf-eval report; the sf-mapper's own final "
-                "object count.")
+                "object count. `fused, all N maps`: the fused mapper opened several maps, scored together as a survey "
+                "(`sf-eval --map-dir`).")
     text = "\n".join(rows) + "\n"
     print(text)
     if out_md:
