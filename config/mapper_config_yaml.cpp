@@ -92,6 +92,7 @@ DaemonConfig parse(const YAML::Node& root) {
     up.read("fls_highlight_half_window", m.update.fls_highlight_half_window);
     up.read("fls_highlight_false_alarm", m.update.fls_highlight_false_alarm);
     up.read("fls_seabed_at_footprint", m.update.fls_seabed_at_footprint);
+    up.read("fls_seabed_judged_later", m.update.fls_seabed_judged_later);
     up.read("require_ps_observation", m.update.require_ps_observation);
     up.rejectUnknownKeys();
 

@@ -91,14 +91,15 @@ void writeStatusJson(MapperNode& node, const std::string& path) {
     std::fprintf(f, "},\n  \"maps\": {\"anchored\": %lld, \"finalised\": %lld, \"detections\": %lld, "
                     "\"detection_in_active_map\": %lld, \"detection_reopened_map\": %lld, \"detection_known_object\": %lld, "
                     "\"detection_no_free_map\": %lld, \"objects_left_to_other_map\": %lld, \"objects_duplicate\": %lld, "
-                    "\"ps_pings_replayed\": %lld, \"fls_frames_replayed\": %lld, \"fls_shadows\": %lld},\n",
+                    "\"ps_pings_replayed\": %lld, \"fls_frames_replayed\": %lld, \"fls_frames_judged_later\": %lld, "
+                    "\"fls_shadows\": %lld},\n",
                  static_cast<long long>(c.map_initialisations), static_cast<long long>(c.maps_finalised),
                  static_cast<long long>(c.detections), static_cast<long long>(c.detection_in_active_map),
                  static_cast<long long>(c.detection_reopened_map),
                  static_cast<long long>(c.detection_known_object), static_cast<long long>(c.detection_no_free_map),
                  static_cast<long long>(c.objects_left_to_other_map), static_cast<long long>(c.objects_duplicate),
                  static_cast<long long>(c.ps_pings_replayed), static_cast<long long>(c.fls_frames_replayed),
-                 static_cast<long long>(c.fls_shadows));
+                 static_cast<long long>(c.fls_frames_judged_later), static_cast<long long>(c.fls_shadows));
     std::fprintf(f, "  \"objects\": %lld, \"peak_rss_kb\": %ld\n}\n", static_cast<long long>(c.objects_published),
                  peakRssKb());
     const bool ok = std::fclose(f) == 0;
@@ -119,12 +120,13 @@ void printSummary(MapperNode& node, const MapOutputs& outs) {
     const MapperCounters& c = node.mapper().counters();
     std::printf("maps %lld anchored, %lld finalised; detections %lld (%lld in an active map, %lld reopened a "
                 "finalised map, %lld on a published object, %lld with no free map); %lld held PS pings and %lld "
-                "held FLS frames replayed; %lld FLS shadows\n",
+                "held FLS frames replayed; %lld FLS frames judged against a seabed found after them; %lld FLS shadows\n",
                 static_cast<long long>(c.map_initialisations), static_cast<long long>(c.maps_finalised),
                 static_cast<long long>(c.detections), static_cast<long long>(c.detection_in_active_map),
                 static_cast<long long>(c.detection_reopened_map), static_cast<long long>(c.detection_known_object),
                 static_cast<long long>(c.detection_no_free_map), static_cast<long long>(c.ps_pings_replayed),
-                static_cast<long long>(c.fls_frames_replayed), static_cast<long long>(c.fls_shadows));
+                static_cast<long long>(c.fls_frames_replayed), static_cast<long long>(c.fls_frames_judged_later),
+                static_cast<long long>(c.fls_shadows));
     for (const std::string& line : outs.summary) std::printf("%s\n", line.c_str());
 }
 

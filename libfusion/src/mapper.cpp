@@ -359,11 +359,7 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     // The detector's plane where the FLS boresight meets the seabed: the seabed
     // the votes are judged against (UpdateConfig::fls_seabed_at_footprint; the
     // plane's gradient carries it across the fan) and the detector's own.
-    const double elevation = 0.5 * (model.elevationMin() + model.elevationMax());
-    const int right = model.cols() / 2, left = std::max(0, model.cols() - 1 - right);
-    const Eigen::Vector3d boresight =
-        world_from_sensor.linear() *
-        (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
+    const Eigen::Vector3d boresight = flsBoresight(model, world_from_sensor);
     // Fitted only where something uses it (two fits per frame).
     const std::optional<SeabedFit> footprint =
         detect || ((any || hold) && cfg_.update.fls_seabed_at_footprint)
@@ -372,6 +368,9 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
     const std::optional<SeabedFit>& vote_seabed =
         cfg_.update.fls_seabed_at_footprint ? footprint : detector_.seabedAtNewestEcho();
     last_fls_seabed_ = vote_seabed;
+    // Held frames that waited for a seabed plane (fls_seabed_judged_later):
+    // before this frame is held, which may take the oldest's place.
+    if (awaiting_frames_ > 0 && vote_seabed) judgeAwaitingFrames(kAwaitingJudgedPerFrame);
     if (hold) holdFrame(frame, world_from_sensor, vote_seabed);
     if (any) {
         fls_updater_.select(geometry);
@@ -379,6 +378,10 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
         for (int s = 0; s < slotCount(); ++s) {
             if (!updatable(s)) continue;
             if (!reaches(s, world_from_sensor.translation(), range_max)) continue;
+            if (hold && !vote_seabed && judgesLater()) {
+                const int cap = static_cast<int>(held_frames_.size());
+                awaitSeabed(held_frames_[static_cast<std::size_t>((held_frame_next_ - 1 + cap) % cap)], s);
+            }
             const FlsUpdateStats st = fls_updater_.apply(frame, world_from_sensor, maps_[static_cast<std::size_t>(s)]);
             counters_.fls_points_outside_map += st.points_outside_map;
             if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(s)].updates;
@@ -586,15 +589,28 @@ void Mapper::holdFrame(const FlsFrame& frame, const Eigen::Isometry3d& world_fro
     const std::size_t pixels = held_pixels_.size() / held_frames_.size();
     if (frame.data_size != pixels) return;  // the configured geometry only
     std::copy(frame.data, frame.data + pixels, held_pixels_.begin() + static_cast<std::ptrdiff_t>(held_frame_next_ * pixels));
-    held_frames_[static_cast<std::size_t>(held_frame_next_)] = HeldFrame{frame.utime, world_from_sensor, seabed};
+    HeldFrame& h = held_frames_[static_cast<std::size_t>(held_frame_next_)];
+    if (h.awaiting_map != 0) --awaiting_frames_;  // never found a plane: its looks are lost
+    h = HeldFrame{frame.utime, world_from_sensor, seabed, 0};
     const int cap = static_cast<int>(held_frames_.size());
     held_frame_next_ = (held_frame_next_ + 1) % cap;
     held_frame_count_ = std::min(held_frame_count_ + 1, cap);
 }
 
+// The FLS boresight (the middle of the fan and of the elevation arc) in the world frame.
+Eigen::Vector3d Mapper::flsBoresight(const FlsModel& model, const Eigen::Isometry3d& world_from_sensor) {
+    const double elevation = 0.5 * (model.elevationMin() + model.elevationMax());
+    const int right = model.cols() / 2, left = std::max(0, model.cols() - 1 - right);
+    return world_from_sensor.linear() *
+           (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
+}
+
 // DetectorConfig::replay_fls_frames: the FLS looks at an object before the
 // detector declared it are applied to its new map as they would have been had
 // the map existed, in their order, each judged against the seabed it was then.
+// UpdateConfig::fls_seabed_judged_later: one judged with no plane is judged
+// against the plane found at its footprint since, or waits for one
+// (judgeAwaitingFrames).
 void Mapper::replayHeldFrames(int slot) {
     const int cap = static_cast<int>(held_frames_.size());
     if (cap == 0 || held_frame_count_ == 0) return;
@@ -602,19 +618,80 @@ void Mapper::replayHeldFrames(int slot) {
     fls_updater_.select(0);
     for (int k = 0; k < held_frame_count_; ++k) {
         const int i = (held_frame_next_ - held_frame_count_ + k + cap) % cap;
-        const HeldFrame& h = held_frames_[static_cast<std::size_t>(i)];
+        HeldFrame& h = held_frames_[static_cast<std::size_t>(i)];
         if (!reaches(slot, h.world_from_sensor.translation(), cfg_.fls.range_max)) continue;
-        FlsFrame f;
-        f.utime = h.utime;
-        f.rows = fls_model_.rows();
-        f.cols = fls_model_.cols();
-        f.data = held_pixels_.data() + static_cast<std::size_t>(i) * pixels;
-        f.data_size = pixels;
-        fls_updater_.setSeabed(h.seabed);
+        std::optional<SeabedFit> seabed = h.seabed;
+        if (!seabed && judgesLater()) {
+            seabed = detector_.seabedAlongRay(h.world_from_sensor.translation(), flsBoresight(fls_model_, h.world_from_sensor));
+            if (seabed) {
+                ++counters_.fls_frames_judged_later;
+            } else {
+                awaitSeabed(h, slot);
+            }
+        }
+        FlsFrame f = heldFrameImage(i, pixels);
+        fls_updater_.setSeabed(seabed);
         const FlsUpdateStats st = fls_updater_.apply(f, h.world_from_sensor, maps_[static_cast<std::size_t>(slot)]);
         counters_.fls_points_outside_map += st.points_outside_map;
         if (st.points_in_map > 0) ++slots_[static_cast<std::size_t>(slot)].updates;
         ++counters_.fls_frames_replayed;
+    }
+}
+
+FlsFrame Mapper::heldFrameImage(int index, std::size_t pixels) const {
+    FlsFrame f;
+    f.utime = held_frames_[static_cast<std::size_t>(index)].utime;
+    f.rows = fls_model_.rows();
+    f.cols = fls_model_.cols();
+    f.data = held_pixels_.data() + static_cast<std::size_t>(index) * pixels;
+    f.data_size = pixels;
+    return f;
+}
+
+void Mapper::awaitSeabed(HeldFrame& h, int slot) {
+    if (h.awaiting_map != 0) return;  // one map per frame: the first it was applied to
+    h.awaiting_map = slots_[static_cast<std::size_t>(slot)].id;
+    ++awaiting_frames_;
+}
+
+// Only the above-seabed votes of a frame already applied with no seabed plane.
+class AboveSeabedOnlySink {
+public:
+    explicit AboveSeabedOnlySink(VoxelMap& map) : out_(map.writer()) {}
+    void add(std::size_t, float, uint8_t) {}
+    void aboveSeabed(std::size_t v) { out_.addAboveSeabedVote(v); }
+
+private:
+    VoxelMap::Writer out_;
+};
+
+// UpdateConfig::fls_seabed_judged_later: the held frames applied while no
+// seabed plane existed at their footprint, oldest first, judged against the
+// one there now, at most `budget` of them; those still without one wait on
+// (until the ring reuses them).
+void Mapper::judgeAwaitingFrames(int budget) {
+    const int cap = static_cast<int>(held_frames_.size());
+    const std::size_t pixels = held_pixels_.size() / held_frames_.size();
+    fls_updater_.select(0);
+    for (int k = 0; k < held_frame_count_ && awaiting_frames_ > 0 && budget > 0; ++k) {
+        const int i = (held_frame_next_ - held_frame_count_ + k + cap) % cap;
+        HeldFrame& h = held_frames_[static_cast<std::size_t>(i)];
+        if (h.awaiting_map == 0) continue;
+        int slot = -1;
+        for (int s = 0; s < slotCount(); ++s)
+            if (slots_[static_cast<std::size_t>(s)].id == h.awaiting_map && updatable(s)) slot = s;
+        if (slot >= 0) {
+            const std::optional<SeabedFit> seabed =
+                detector_.seabedAlongRay(h.world_from_sensor.translation(), flsBoresight(fls_model_, h.world_from_sensor));
+            if (!seabed) continue;
+            fls_updater_.setSeabed(seabed);
+            AboveSeabedOnlySink sink(maps_[static_cast<std::size_t>(slot)]);
+            (void)fls_updater_.apply(heldFrameImage(i, pixels), h.world_from_sensor, maps_[static_cast<std::size_t>(slot)], sink);
+            ++counters_.fls_frames_judged_later;
+            --budget;
+        }
+        h.awaiting_map = 0;  // judged, or its map is gone
+        --awaiting_frames_;
     }
 }
 
@@ -631,6 +708,7 @@ void Mapper::saveHeldFrames(StateWriter& w) const {
         const SeabedFit f = h.seabed.value_or(SeabedFit{});
         for (double v : {f.centre.x(), f.centre.y(), f.depth, f.gradient.x(), f.gradient.y(), f.rms}) w.pod(v);
         w.pod(f.echoes);
+        w.pod(h.awaiting_map);
         w.bytes(held_pixels_.data() + static_cast<std::size_t>(i) * pixels, pixels);
     }
 }
@@ -641,6 +719,7 @@ bool Mapper::loadHeldFrames(StateReader& r) {
         held_frame_next_ < 0 || held_frame_next_ >= std::max(cap, 1) ||
         (held_frame_count_ < cap && held_frame_next_ != held_frame_count_ % std::max(cap, 1)))
         return false;
+    awaiting_frames_ = 0;
     const std::size_t pixels = held_frames_.empty() ? 0 : held_pixels_.size() / held_frames_.size();
     for (int i = 0; i < held_frame_count_; ++i) {
         HeldFrame& h = held_frames_[static_cast<std::size_t>(i)];
@@ -653,9 +732,10 @@ bool Mapper::loadHeldFrames(StateReader& r) {
         if (!r.pod(has) || has > 1) return false;
         for (double* v : {&f.centre.x(), &f.centre.y(), &f.depth, &f.gradient.x(), &f.gradient.y(), &f.rms})
             if (!r.pod(*v) || !std::isfinite(*v)) return false;
-        if (!r.pod(f.echoes) || !m.allFinite() ||
+        if (!r.pod(f.echoes) || !r.pod(h.awaiting_map) || h.awaiting_map < 0 || !m.allFinite() ||
             !r.bytes(held_pixels_.data() + static_cast<std::size_t>(i) * pixels, pixels))
             return false;
+        if (h.awaiting_map != 0) ++awaiting_frames_;
         h.world_from_sensor.matrix().topRows<3>() = m;
         h.world_from_sensor.matrix().row(3) << 0.0, 0.0, 0.0, 1.0;
         h.seabed.reset();

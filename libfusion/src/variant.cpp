@@ -59,6 +59,7 @@ void applyVariant(Variant v, MapperConfig& cfg) {
             u.fls_free_space_noise_sigmas = 0.0;
             u.fls_highlight_above_seabed = false;  // range alone says what the seabed cannot explain
             u.fls_seabed_at_footprint = false;     // the detector's plane, as the first rules were measured with
+            u.fls_seabed_judged_later = false;
             cfg.ps_selection.weak_echoes_group = false;  // tau alone (paper 2.3)
             u.require_ps_observation = false;
             break;

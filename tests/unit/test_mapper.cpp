@@ -197,6 +197,54 @@ TEST(Mapper, AMapAnchoredLateHoldsTheFlsFramesThatSawTheObject) {
     EXPECT_GT(touched_late, touched_unheld);
 }
 
+// UpdateConfig::fls_seabed_judged_later (docs/algorithm.md, "Frames seen before
+// the seabed was known"). A pass starting 3.5 m before the box: its first FLS
+// frames see the box before the detector has gathered min_seabed_echoes, so no
+// seabed plane exists to call their votes above the seabed. Judged again
+// against the plane found there later, they count: more above-seabed votes,
+// and only there (log-odds and flags unchanged). The old rule counts none of
+// those frames' votes.
+TEST(Mapper, FramesSeenBeforeTheSeabedWasKnownAreJudgedAgainstTheLaterPlane) {
+    test::BoxWorld world;
+    auto run = [&](bool later) {
+        MapperConfig cfg;
+        cfg.update.fls_seabed_judged_later = later;
+        auto mapper = std::make_unique<Mapper>(cfg);
+        runPass(*mapper, world, 1000, -4.5);
+        return mapper;
+    };
+    const auto judged = run(true);
+    const auto unjudged = run(false);
+    ASSERT_TRUE(judged->map().initialised());
+    ASSERT_TRUE(unjudged->map().initialised());
+    ASSERT_EQ(judged->map().centre(), unjudged->map().centre());
+    EXPECT_GT(judged->counters().fls_frames_judged_later, 0);
+    EXPECT_EQ(unjudged->counters().fls_frames_judged_later, 0);
+    long long votes_judged = 0, votes_unjudged = 0, on_box_gained = 0, off_box_gained = 0;
+    int differ = 0;
+    for (std::size_t i = 0; i < judged->map().size(); ++i) {
+        differ += judged->map().logOdds(i) != unjudged->map().logOdds(i) ||
+                  judged->map().flags(i) != unjudged->map().flags(i);
+        const int a = judged->map().flsAboveSeabedVotes(i), b = unjudged->map().flsAboveSeabedVotes(i);
+        votes_judged += a;
+        votes_unjudged += b;
+        EXPECT_GE(a, b);
+        if (a > b) {
+            // Gained votes lie above the seabed, on the box's arcs.
+            const Eigen::Vector3d c = judged->map().centreOf(judged->map().fromLinear(i));
+            (c.z() < world.seabed - 0.15 ? on_box_gained : off_box_gained) += a - b;
+        }
+    }
+    EXPECT_EQ(differ, 0);
+    EXPECT_GT(votes_judged, votes_unjudged);
+    EXPECT_GT(on_box_gained, 0);
+    // The plane found later judges as one found then would: the paper variant
+    // (no footprint plane) never judges again.
+    MapperConfig paper;
+    applyVariant(Variant::Paper, paper);
+    EXPECT_FALSE(paper.update.fls_seabed_judged_later);
+}
+
 // DetectorConfig::nearest_echo_sigmas. A post 0.6 m tall stands in the PS fan,
 // but the seabed, echoing across the whole fan at one range, is every ping's
 // strongest bin: paper 2.1's maximum never rises. The post's weaker echo

@@ -157,6 +157,14 @@ struct UpdateConfig {
     // plane and its scatter until no vote counted (docs/algorithm.md, "The
     // seabed the FLS judges against").
     bool fls_seabed_at_footprint = true;
+    // With fls_seabed_at_footprint: an FLS frame judged while no plane existed
+    // at its footprint (the mission's first metres, before the detector has
+    // min_seabed_echoes there; longer at a sparse ping rate) counted no vote
+    // above the seabed. Held (DetectorConfig::replay_fls_frames), its votes are
+    // judged again against the first plane found there later, once: the seabed
+    // has not moved. Above-seabed counts only, so the log-odds are unchanged
+    // (docs/algorithm.md, "Frames seen before the seabed was known").
+    bool fls_seabed_judged_later = true;
     // Report as objects only voxels that a PS ray crossed or ended in.
     bool require_ps_observation = true;
     // PS carving stops at the first bin that could be an echo, not at the

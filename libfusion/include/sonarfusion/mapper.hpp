@@ -68,6 +68,7 @@ struct MapperCounters {
     int64_t ps_pings_replayed = 0;          // held PS pings carved into a map when it was anchored
     int64_t fls_shadows = 0;                // FLS frames holding a shadow (DetectorConfig::fls_shadow_false_alarm)
     int64_t fls_frames_replayed = 0;        // held FLS frames applied to a map when it was anchored
+    int64_t fls_frames_judged_later = 0;    // FLS frames judged with no seabed plane, judged again against one found later
 };
 
 // One slot of the survey pool. id 0: free.
@@ -195,6 +196,17 @@ private:
     void holdFrame(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor,
                    const std::optional<SeabedFit>& seabed);
     void replayHeldFrames(int slot);
+    // Awaiting frames judged per incoming FLS frame: each costs about a frame's
+    // update, so a backlog (up to replay_fls_frames) drains over frames instead
+    // of in one; more than one per frame, and oldest first, so the ring, which
+    // reuses one slot per frame, never takes one before it is judged.
+    static constexpr int kAwaitingJudgedPerFrame = 2;
+    void judgeAwaitingFrames(int budget);
+    [[nodiscard]] FlsFrame heldFrameImage(int index, std::size_t pixels) const;
+    [[nodiscard]] bool judgesLater() const {
+        return cfg_.update.fls_seabed_at_footprint && cfg_.update.fls_seabed_judged_later;
+    }
+    [[nodiscard]] static Eigen::Vector3d flsBoresight(const FlsModel& model, const Eigen::Isometry3d& world_from_sensor);
     void saveHeldFrames(StateWriter& w) const;
     [[nodiscard]] bool loadHeldFrames(StateReader& r);
 
@@ -225,10 +237,13 @@ private:
         int64_t utime = 0;
         Eigen::Isometry3d world_from_sensor = Eigen::Isometry3d::Identity();
         std::optional<SeabedFit> seabed;  // the plane its votes were judged against
+        int awaiting_map = 0;  // id of the map it waits to be applied to, once a plane exists (0: none)
     };
     std::vector<HeldFrame> held_frames_;  // ring
     std::vector<uint8_t> held_pixels_;    // rows x cols per held frame, allocated here
     int held_frame_count_ = 0, held_frame_next_ = 0;
+    int awaiting_frames_ = 0;  // held frames with awaiting_map set
+    void awaitSeabed(HeldFrame& h, int slot);
     std::optional<SeabedFit> last_fls_seabed_;
     ObjectDetector detector_;
     Segmenter segmenter_;
