@@ -202,6 +202,8 @@ private:
     // reuses one slot per frame, never takes one before it is judged.
     static constexpr int kAwaitingJudgedPerFrame = 2;
     void judgeAwaitingFrames(int budget);
+    struct HeldFrame;
+    void awaitSeabed(HeldFrame& h, int slot);
     [[nodiscard]] FlsFrame heldFrameImage(int index, std::size_t pixels) const;
     [[nodiscard]] bool judgesLater() const {
         return cfg_.update.fls_seabed_at_footprint && cfg_.update.fls_seabed_judged_later;
@@ -237,13 +239,12 @@ private:
         int64_t utime = 0;
         Eigen::Isometry3d world_from_sensor = Eigen::Isometry3d::Identity();
         std::optional<SeabedFit> seabed;  // the plane its votes were judged against
-        int awaiting_map = 0;  // id of the map it waits to be applied to, once a plane exists (0: none)
+        int awaiting_map = 0;  // id of the map whose above-seabed votes it still owes, once a plane exists (0: none)
     };
     std::vector<HeldFrame> held_frames_;  // ring
     std::vector<uint8_t> held_pixels_;    // rows x cols per held frame, allocated here
     int held_frame_count_ = 0, held_frame_next_ = 0;
     int awaiting_frames_ = 0;  // held frames with awaiting_map set
-    void awaitSeabed(HeldFrame& h, int slot);
     std::optional<SeabedFit> last_fls_seabed_;
     ObjectDetector detector_;
     Segmenter segmenter_;
