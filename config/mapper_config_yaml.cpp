@@ -120,6 +120,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("fls_shadow_false_alarm", m.detector.fls_shadow_false_alarm);
     det.read("fls_shadow_min_frames", m.detector.fls_shadow_min_frames);
     det.read("replay_pings", m.detector.replay_pings);
+    det.read("replay_pings_carve_only", m.detector.replay_pings_carve_only);
     det.read("replay_fls_frames", m.detector.replay_fls_frames);
     det.rejectUnknownKeys();
 

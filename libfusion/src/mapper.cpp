@@ -654,11 +654,11 @@ void Mapper::awaitSeabed(HeldFrame& h, int slot) {
     ++awaiting_frames_;
 }
 
-// Only the above-seabed votes of a frame already applied with no seabed plane.
+// Only the above-seabed votes of a frame already applied with no seabed plane
+// (FlsUpdater::applyAboveSeabedVotes makes no other call).
 class AboveSeabedOnlySink {
 public:
     explicit AboveSeabedOnlySink(VoxelMap& map) : out_(map.writer()) {}
-    void add(std::size_t, float, uint8_t) {}
     void aboveSeabed(std::size_t v) { out_.addAboveSeabedVote(v); }
 
 private:
@@ -686,7 +686,8 @@ void Mapper::judgeAwaitingFrames(int budget) {
             if (!seabed) continue;
             fls_updater_.setSeabed(seabed);
             AboveSeabedOnlySink sink(maps_[static_cast<std::size_t>(slot)]);
-            (void)fls_updater_.apply(heldFrameImage(i, pixels), h.world_from_sensor, maps_[static_cast<std::size_t>(slot)], sink);
+            (void)fls_updater_.applyAboveSeabedVotes(heldFrameImage(i, pixels), h.world_from_sensor,
+                                                      maps_[static_cast<std::size_t>(slot)], sink);
             ++counters_.fls_frames_judged_later;
             --budget;
         }
@@ -748,16 +749,24 @@ bool Mapper::loadHeldFrames(StateReader& r) {
 // only once a seabed plane exists where they lie (ObjectDetector): by then the
 // PS may have swept past the object (a mission starting close to it, a vehicle
 // fast for its ping rate). The pings that found it are carved into the new map
-// as they would have been had it existed, in their order; the ping that
-// declared it is the newest of them.
+// in their order, the ping that declared it the newest of them: as water only
+// (DetectorConfig::replay_pings_carve_only, CarvingOnlySink), or as they would
+// have been had the map existed.
 void Mapper::replayHeldPings(int slot) {
     const int n = held_count_;
     const int cap = static_cast<int>(held_pings_.size());
     for (int k = 0; k < n; ++k) {
         const HeldPing& h = held_pings_[static_cast<std::size_t>((held_next_ - n + k + cap) % cap)];
         if (!reaches(slot, h.world_from_sensor.translation(), h.range_max)) continue;
-        const PsCarveStats st = ps_carver_.apply(h.head_angle, h.range, h.world_from_sensor,
-                                                 maps_[static_cast<std::size_t>(slot)], h.strength, h.carve_range);
+        VoxelMap& map = maps_[static_cast<std::size_t>(slot)];
+        PsCarveStats st;
+        if (cfg_.detector.replay_pings_carve_only) {
+            MapWriterSink out(map);
+            CarvingOnlySink<MapWriterSink> sink(out);
+            st = ps_carver_.apply(h.head_angle, h.range, h.world_from_sensor, map, sink, h.strength, h.carve_range);
+        } else {
+            st = ps_carver_.apply(h.head_angle, h.range, h.world_from_sensor, map, h.strength, h.carve_range);
+        }
         counters_.ps_endpoints_outside_map += st.endpoints_outside_map;
         if (st.endpoints_in_map > 0) ++slots_[static_cast<std::size_t>(slot)].updates;
         ++counters_.ps_pings_replayed;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 #include <set>
+#include <string>
 
 #include "sonarfusion/fls_update.hpp"
 #include "sonarfusion/variant.hpp"
@@ -331,6 +332,60 @@ TEST(FlsUpdate, AHighlightBeyondTheSeabedRangeCountsAboveIt) {
     EXPECT_EQ(on.second, 0) << "speckle";
     EXPECT_EQ(off.first, 0);
     EXPECT_EQ(off.second, 0);
+}
+
+// The judged-later pass (UpdateConfig::fls_seabed_judged_later) asks only for
+// the above-seabed counts: applyAboveSeabedVotes must hand the sink the very
+// aboveSeabed calls apply() does (the same voxels, as often; the order does
+// not matter to a count), in every counting mode, and no log-odds update; it skips the free space and the pixels the seabed
+// explains, so it touches fewer voxels.
+TEST(FlsUpdate, TheAboveSeabedPassGivesApplysAboveSeabedVotesAndNothingElse) {
+    struct Recorder {
+        std::vector<std::size_t> above;
+        int adds = 0;
+        void add(std::size_t, float, uint8_t) { ++adds; }
+        void aboveSeabed(std::size_t v) { above.push_back(v); }
+    };
+    struct Mode {
+        bool once_per_frame, free_space, highlights;
+    };
+    for (const Mode m : {Mode{true, true, true}, Mode{true, false, false}, Mode{false, false, false},
+                         Mode{false, true, true}}) {
+        Fixture fx;
+        fx.cfg.fls_arc_spacing_voxels = 1.0;
+        fx.cfg.fls_once_per_frame = m.once_per_frame;
+        fx.cfg.fls_free_space = m.free_space;
+        fx.cfg.fls_highlight_above_seabed = m.highlights;
+        FlsUpdater up(fx.model, fx.cfg, fx.map);
+        SeabedFit flat;
+        flat.depth = 4.0;
+        up.setSeabed(flat);
+        // Seabed speckle beyond 5.4 m, a bright patch on it, and returns nearer
+        // than the seabed on a few beams (rows 290..300: 4.6-4.8 m).
+        auto frame = test::blankFrame(fx.geom, 0);
+        for (int row = 0; row < fx.geom.rows; ++row)
+            for (int col = 0; col < fx.geom.beams; ++col)
+                test::setPixel(frame, row, col,
+                               row < 160 || row > 260 ? 8 : (row * 7 + col * 3) % 8 == 0 ? 210 : 160);
+        for (int row = 232; row < 238; ++row)
+            for (int col = 45; col < 51; ++col) test::setPixel(frame, row, col, 255);
+        for (int row = 290; row <= 300; ++row)
+            for (int col = 10; col < 14; ++col) test::setPixel(frame, row, col, 200);
+        Recorder full, only;
+        const FlsUpdateStats st_full = up.apply(frame.view, fx.sensor, fx.map, full);
+        const FlsUpdateStats st_only = up.applyAboveSeabedVotes(frame.view, fx.sensor, fx.map, only);
+        const std::string mode = "once " + std::to_string(m.once_per_frame) + " free " +
+                                 std::to_string(m.free_space) + " highlights " + std::to_string(m.highlights);
+        ASSERT_FALSE(full.above.empty()) << mode;
+        std::sort(full.above.begin(), full.above.end());
+        std::sort(only.above.begin(), only.above.end());
+        EXPECT_EQ(only.above, full.above) << mode;
+        EXPECT_EQ(st_only.voxels_above_seabed, st_full.voxels_above_seabed) << mode;
+        EXPECT_EQ(only.adds, 0) << mode;
+        EXPECT_EQ(st_only.voxels_updated, 0) << mode;
+        EXPECT_EQ(st_only.voxels_freed, 0) << mode;
+        EXPECT_GT(full.adds, static_cast<int>(full.above.size())) << mode;
+    }
 }
 
 // --- Where the free space stops (UpdateConfig::fls_free_space_noise_sigmas)

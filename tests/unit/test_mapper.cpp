@@ -130,6 +130,7 @@ TEST(Mapper, AMapAnchoredLateHoldsThePingsThatFoundTheObject) {
         MapperConfig cfg;
         applyVariant(Variant::CarveOnly, cfg);
         cfg.detector.replay_pings = replay_pings;
+        cfg.detector.replay_pings_carve_only = false;  // echoes too: as if the map had existed
         auto mapper = std::make_unique<Mapper>(cfg);
         if (anchor_first) mapper->initialiseMapAt(*anchor_first);
         runPass(*mapper, world, 1000, -4.5);
@@ -155,6 +156,41 @@ TEST(Mapper, AMapAnchoredLateHoldsThePingsThatFoundTheObject) {
     EXPECT_EQ(differ_early, 0);
     EXPECT_GT(differ_unheld, 100);
     EXPECT_GT(observed_late, observed_unheld);
+}
+
+// DetectorConfig::replay_pings_carve_only (the default; docs/algorithm.md,
+// "The pings before the map carve it"): the held pings add only their water.
+// Against a map anchored at the same ping with no pings held, every voxel has
+// the same PS echo count (the held pings' echoes, placed across the fan from
+// their far looks, are left out) and a log-odds no higher (more carving, and
+// the later pings spare less); over a hundred voxels are carved lower. With
+// echoes too (the option off), the echo counts differ.
+TEST(Mapper, HeldPingsCarveALateMapWithoutAddingTheirEchoes) {
+    test::BoxWorld world;
+    auto run = [&](int replay_pings, bool carve_only) {
+        MapperConfig cfg;
+        applyVariant(Variant::CarveOnly, cfg);
+        cfg.detector.replay_pings = replay_pings;
+        cfg.detector.replay_pings_carve_only = carve_only;
+        auto mapper = std::make_unique<Mapper>(cfg);
+        runPass(*mapper, world, 1000, -4.5);
+        return mapper;
+    };
+    const auto carved = run(1024, true), full = run(1024, false), unheld = run(0, true);
+    for (const auto* m : {carved.get(), full.get(), unheld.get()}) ASSERT_TRUE(m->map().initialised());
+    ASSERT_EQ(carved->map().centre(), unheld->map().centre());
+    EXPECT_GT(carved->counters().ps_pings_replayed, 0);
+    int echoes_differ = 0, higher = 0, lower = 0, full_echoes_differ = 0;
+    for (std::size_t i = 0; i < carved->map().size(); ++i) {
+        echoes_differ += carved->map().psEchoCount(i) != unheld->map().psEchoCount(i);
+        higher += carved->map().logOdds(i) > unheld->map().logOdds(i);
+        lower += carved->map().logOdds(i) < unheld->map().logOdds(i);
+        full_echoes_differ += full->map().psEchoCount(i) != unheld->map().psEchoCount(i);
+    }
+    EXPECT_EQ(echoes_differ, 0);
+    EXPECT_EQ(higher, 0);
+    EXPECT_GT(lower, 100);
+    EXPECT_GT(full_echoes_differ, 0);
 }
 
 // DetectorConfig::replay_fls_frames (docs/algorithm.md, "The looks before the

@@ -147,22 +147,6 @@ struct PipelineInputs {
 
 using sfbench::frameOf;
 
-double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, const Prefix& p, VoxelMap& map,
-                           FlsUpdater& fls, const PsCarver& carver) {
-    map.initialiseAt(s.map_centre);
-    const auto t = Clock::now();
-    for (std::size_t i = 0; i < p.messages; ++i) {
-        const MessageRecord& m = s.messages[i];
-        if (m.kind == MessageRecord::Fls) {
-            fls.setSeabed(m.seabed);  // as the Mapper judged it
-            fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
-        } else {
-            carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength, m.carve_range);
-        }
-    }
-    return secondsSince(t);
-}
-
 // --- what-ifs for libfusion's hot loops (docs/performance.md, next steps) ---
 // A copy of PsCarver::apply with one proposed change,
 // through VoxelMap's public add/setFlag, so the gain is measured, not guessed.
@@ -180,8 +164,11 @@ public:
             table_[i] = free_increment_ * std::exp(-static_cast<float>(cfg.alpha_ps) * static_cast<float>(i) / kSteps);
         table_[kSteps + 1] = table_[kSteps];
     }
+    // water_only: a held ping as DetectorConfig::replay_pings_carve_only carves it
+    // (free-space log-odds only: no crossing, flag or echo).
     void apply(double head_angle, double range, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map,
-               double /*echo_strength: no end-point hits in this what-if*/, double carve_range) const {
+               double /*echo_strength: no end-point hits in this what-if*/, double carve_range,
+               bool water_only = false) const {
         const Eigen::Vector3d origin = world_from_sensor.translation();
         const bool shorter = carve_range >= 0.0 && carve_range < range;
         const double t_scale = shorter ? carve_range / range : 1.0;  // as PsCarver: t is a fraction of the echo's range
@@ -192,15 +179,15 @@ public:
             const WalkResult w = walkSegment(map, origin, shorter ? Eigen::Vector3d(origin + carve_range * dir) : end,
                                              [&](std::size_t v, double t) {
                 const bool spared = sparesSurfaceVoxel(cfg_, map.psEchoCount(v), map.psCrossings(v));  // as PsCarver
-                counts.addPsCrossing(v);
+                if (!water_only) counts.addPsCrossing(v);
                 if (spared) return;
                 const float x = static_cast<float>(t * t_scale) * kSteps;
                 const int i = static_cast<int>(x);
                 map.add(v, table_[i] + (x - static_cast<float>(i)) * (table_[i + 1] - table_[i]));
-                map.setFlag(v, VoxelMap::kPsObserved);
+                if (!water_only) map.setFlag(v, VoxelMap::kPsObserved);
             });
             VoxelIndex echo;
-            if (shorter ? map.worldToIndex(end, echo) : w.end_in_map) {
+            if (!water_only && (shorter ? map.worldToIndex(end, echo) : w.end_in_map)) {
                 map.setFlag(shorter ? map.linear(echo) : w.end_voxel, VoxelMap::kPsObserved);
                 map.addPsEcho(shorter ? map.linear(echo) : w.end_voxel);
             }
@@ -214,6 +201,39 @@ private:
     float free_increment_;
     float table_[kSteps + 2];
 };
+
+// A PS message applied as the Mapper applied it: a held ping carved as water
+// only (MessageRecord::carve_only) goes through libfusion's CarvingOnlySink.
+void applyPs(const PsCarver& carver, const MessageRecord& m, VoxelMap& map) {
+    if (m.carve_only) {
+        MapWriterSink out(map);
+        CarvingOnlySink<MapWriterSink> water(out);
+        carver.apply(m.head_angle, m.range, m.world_from_sensor, map, water, m.echo_strength, m.carve_range);
+    } else {
+        carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength, m.carve_range);
+    }
+}
+void applyPs(const PsTableCarver& carver, const MessageRecord& m, VoxelMap& map) {
+    carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength, m.carve_range, m.carve_only);
+}
+
+double runVoxelMapPipeline(const PipelineInputs& in, const UpdateStream& s, const Prefix& p, VoxelMap& map,
+                           FlsUpdater& fls, const PsCarver& carver) {
+    map.initialiseAt(s.map_centre);
+    const auto t = Clock::now();
+    for (std::size_t i = 0; i < p.messages; ++i) {
+        const MessageRecord& m = s.messages[i];
+        if (m.kind == MessageRecord::Fls) {
+            fls.setSeabed(m.seabed);  // as the Mapper judged it
+            fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
+        } else {
+            applyPs(carver, m, map);
+        }
+    }
+    return secondsSince(t);
+}
+
+
 
 // OctoMap the way its users feed it: candidate points through coordToKey with
 // a per-scan key set (as insertPointCloud dedupes), carving rays through
@@ -308,13 +328,13 @@ double runOctomapUser(const PipelineInputs& in, const UpdateStream& s, const Pre
                     PsCounts& c = ps_counts[key];
                     const bool spared = sparesSurfaceVoxel(u, std::min(c.echoes, int{VoxelMap::kPsEchoMax}),
                                                            std::min(c.crossings, int{VoxelMap::kPsCrossingsMax}));
-                    ++c.crossings;
+                    if (!m.carve_only) ++c.crossings;  // a held ping carved as water only counts nothing
                     if (spared) continue;
                     const double dist = (tree.keyToCoord(key) - oa).norm();
                     tree.updateNode(key, free_increment * static_cast<float>(std::exp(-alpha * dist / range)));
                 }
                 octomap::OcTreeKey end_key;
-                if (tree.coordToKeyChecked(oe, end_key) && grid.inGrid(end_key)) {
+                if (!m.carve_only && tree.coordToKeyChecked(oe, end_key) && grid.inGrid(end_key)) {
                     ++ps_counts[end_key].echoes;
                     if (u.ps_endpoint_hits) tree.updateNode(end_key, hit_increment * static_cast<float>(m.echo_strength));
                 }
@@ -336,7 +356,7 @@ double runMessages(const PipelineInputs& in, const UpdateStream& s, const Prefix
             if (m.kind == MessageRecord::Fls) fls.setSeabed(m.seabed);  // as the Mapper judged it
         }
         if (m.kind == MessageRecord::Fls) fls.apply(frameOf(in.log.fls[m.source]), m.world_from_sensor, map);
-        else carver.apply(m.head_angle, m.range, m.world_from_sensor, map, m.echo_strength, m.carve_range);
+        else applyPs(carver, m, map);
     }
     return secondsSince(t);
 }

@@ -190,6 +190,53 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
         s.messages.push_back(m);
     };
 
+    // DetectorConfig::replay_pings: the PS pings the Mapper holds (every one
+    // with a selected echo, map or not), carved into the map when it is
+    // anchored, before the held frames, where they reach it.
+    std::vector<MessageRecord> held_pings;
+    const std::size_t ping_capacity = cfg.update.ps_carving_enabled ? static_cast<std::size_t>(cfg.detector.replay_pings) : 0;
+    const auto psMessage = [&](uint32_t index, const Eigen::Isometry3d& world_from_sensor, MessageRecord& m) {
+        const PsMessage& p = log.ps[index];
+        PsPing ping;
+        ping.head_angle = p.head_angle;
+        ping.range_min = p.range_min;
+        ping.range_max = p.range_max;
+        ping.bins = static_cast<int>(p.intensity.size());
+        ping.intensity = p.intensity.data();
+        const std::optional<PsEchoGroup> group = closestGroup(ping, cfg.ps_selection);
+        if (!group) return false;
+        m = MessageRecord{};
+        m.source = index;
+        m.kind = MessageRecord::Ps;
+        m.world_from_sensor = world_from_sensor;
+        m.head_angle = p.head_angle;
+        m.range = rangeOfBin(ping, group->peak);
+        m.echo_strength = ping.intensity[group->peak] / 255.0;
+        m.carve_range = carveStopRange(ping, *group, cfg.ps_selection, cfg.update.ps_carve_noise_sigmas,
+                                       cfg.update.ps_carve_echo_window_voxels * cfg.map.resolution);
+        return true;
+    };
+    const auto recordPs = [&](MessageRecord m) {
+        m.begin = static_cast<uint32_t>(s.updates.size());
+        m.ray_begin = static_cast<uint32_t>(s.rays.size());
+        StreamSink sink(s, false, counts);
+        if (m.carve_only) {
+            CarvingOnlySink<StreamSink> water(sink);
+            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, counts, water, m.echo_strength, m.carve_range);
+        } else {
+            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, counts, sink, m.echo_strength, m.carve_range);
+        }
+        m.ray_end = static_cast<uint32_t>(s.rays.size());
+        ++s.ps_pings;
+        m.end = static_cast<uint32_t>(s.updates.size());
+        s.messages.push_back(m);
+    };
+    // Mapper::reaches: some point of the map within `range` of p.
+    const auto reaches = [&](const Eigen::Vector3d& p, double range) {
+        const Eigen::Vector3d lo = mapper.map().origin(), hi = lo + mapper.map().extent();
+        return (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero()).norm() <= range;
+    };
+
     for (const ScenarioLog::Event& ev : log.order) {
         if (ev.kind == ScenarioLog::Event::Nav) {
             nav.add(log.nav[ev.index]);
@@ -206,9 +253,20 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             if (held.size() == hold_capacity) held.erase(held.begin());
             held.push_back({static_cast<uint32_t>(ev.index), sensorToWorld(pose, cfg.fls_mount), mapper.lastFlsSeabed()});
         }
+        MessageRecord ping_record;
+        if (ping_capacity > 0 && ev.kind == ScenarioLog::Event::Ps &&
+            (outcome == Outcome::Used || outcome == Outcome::PsNoEcho) &&
+            nav.poseAt(log.ps[ev.index].utime, pose) == PoseLookup::Ok &&
+            psMessage(static_cast<uint32_t>(ev.index), sensorToWorld(pose, cfg.ps_mount), ping_record)) {
+            if (held_pings.size() == ping_capacity) held_pings.erase(held_pings.begin());
+            ping_record.carve_only = cfg.detector.replay_pings_carve_only;
+            held_pings.push_back(ping_record);
+        }
         if (!mapping && mapper.map().initialised()) {
             counts.initialiseAt(mapper.map().centre());
             if (counts.origin() != mapper.map().origin()) throw std::runtime_error("recorder: count map origin differs from the Mapper's");
+            for (const MessageRecord& h : held_pings)
+                if (reaches(h.world_from_sensor.translation(), log.ps[h.source].range_max)) recordPs(h);
             for (const Held& h : held) recordFls(h.source, h.world_from_sensor, h.seabed);
         }
         if (!mapping || outcome != Outcome::Used) continue;
@@ -218,36 +276,11 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             recordFls(static_cast<uint32_t>(ev.index), sensorToWorld(pose, cfg.fls_mount), mapper.lastFlsSeabed());
             continue;
         }
-        MessageRecord m{};
-        m.source = ev.index;
-        m.begin = static_cast<uint32_t>(s.updates.size());
-        {
-            if (!cfg.update.ps_carving_enabled) continue;
-            const PsMessage& p = log.ps[ev.index];
-            PsPing ping;
-            ping.head_angle = p.head_angle;
-            ping.range_min = p.range_min;
-            ping.range_max = p.range_max;
-            ping.bins = static_cast<int>(p.intensity.size());
-            ping.intensity = p.intensity.data();
-            const std::optional<PsEchoGroup> group = closestGroup(ping, cfg.ps_selection);
-            if (nav.poseAt(p.utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used PS ping");
-            m.kind = MessageRecord::Ps;
-            m.world_from_sensor = sensorToWorld(pose, cfg.ps_mount);
-            m.head_angle = p.head_angle;
-            m.range = rangeOfBin(ping, group->peak);  // Used implies a bin was selected
-            m.echo_strength = ping.intensity[group->peak] / 255.0;
-            m.carve_range = carveStopRange(ping, *group, cfg.ps_selection, cfg.update.ps_carve_noise_sigmas,
-                                           cfg.update.ps_carve_echo_window_voxels * cfg.map.resolution);
-            m.ray_begin = static_cast<uint32_t>(s.rays.size());
-            StreamSink sink(s, false, counts);
-            ps_recorder.apply(m.head_angle, m.range, m.world_from_sensor, counts, sink, m.echo_strength,
-                              m.carve_range);
-            m.ray_end = static_cast<uint32_t>(s.rays.size());
-            ++s.ps_pings;
-        }
-        m.end = static_cast<uint32_t>(s.updates.size());
-        s.messages.push_back(m);
+        if (!cfg.update.ps_carving_enabled) continue;
+        if (nav.poseAt(log.ps[ev.index].utime, pose) != PoseLookup::Ok) throw std::runtime_error("recorder: no pose for a used PS ping");
+        MessageRecord m;
+        if (!psMessage(ev.index, sensorToWorld(pose, cfg.ps_mount), m)) continue;  // Used implies a bin was selected
+        recordPs(m);
     }
     if (!mapper.map().initialised())
         throw std::runtime_error("the mapper never initialised its map (no object detected): no update stream");

@@ -66,6 +66,7 @@ struct MessageRecord {
     uint32_t begin = 0, end = 0;             // its updates: stream.updates[begin, end)
     uint32_t ray_begin = 0, ray_end = 0;     // PS: its rays in stream.rays
     std::optional<sonarfusion::SeabedFit> seabed;  // FLS: the seabed plane the Mapper judged its votes against
+    bool carve_only = false;  // PS: a held ping carved as water only (DetectorConfig::replay_pings_carve_only)
 };
 
 // A PS carving ray (sensor to where carving stops; the echo may lie beyond)

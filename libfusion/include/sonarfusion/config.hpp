@@ -250,12 +250,17 @@ struct DetectorConfig {
     // first does there: a risen one joins the risen echoes (and leaves the
     // seabed's fits). False: they stay seabed for good.
     bool judge_early_echoes = true;
-    // PS pings kept (ring, allocated once) and carved into a map when the
-    // detector anchors it, so the sweeps that found the object count. 0 (the
-    // default): a map starts with the ping after the detection (paper). Off
-    // because the held far-look pings add echoes above the seabed beside an
-    // object (docs/algorithm.md, "A mission that starts close to an object").
-    int replay_pings = 0;
+    // PS pings kept (ring, allocated once, 168 B each) and carved into a map
+    // when the detector anchors it: the pings that looked at its stretch before
+    // it existed. 0: a map starts with the ping after the detection (paper).
+    int replay_pings = 1024;
+    // The held pings carve only: their free-space updates, as log-odds alone
+    // (no echo, crossing or PS-observed flag; those count the pings the map was
+    // made from). Their echoes, far looks placed across the whole fan, add
+    // echoes above the seabed beside an object (docs/algorithm.md, "The pings
+    // before the map carve it"). False: carved with their echoes, as if the map
+    // had existed ("A mission that starts close to an object").
+    bool replay_pings_carve_only = true;
     // FLS frames kept (ring, allocated once: copies of the configured
     // geometry's images, 128 x 49 KB for 512 x 96, with their poses and the
     // seabed their votes were judged against) and applied to a map when the

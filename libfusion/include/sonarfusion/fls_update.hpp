@@ -82,7 +82,19 @@ public:
     // instead of written; `map` gives the grid geometry only.
     template <class Sink>
     FlsUpdateStats apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
-                         Sink& sink);
+                         Sink& sink) {
+        return update<false>(frame, world_from_sensor, map, sink);
+    }
+    // Only the above-seabed counts apply() would hand `sink` for this frame
+    // (aboveSeabed: the same voxels, as often, not always in the same order):
+    // no log-odds update, and the
+    // pixels the seabed explains and the free space are skipped, so it costs a
+    // fraction of apply() (UpdateConfig::fls_seabed_judged_later).
+    template <class Sink>
+    FlsUpdateStats applyAboveSeabedVotes(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor,
+                                         const VoxelMap& map, Sink& sink) {
+        return update<true>(frame, world_from_sensor, map, sink);
+    }
 
     // Eq. 5 times alpha_F: the increment for a pixel of intensity 255.
     [[nodiscard]] float fullScaleIncrement() const { return increment_; }
@@ -101,6 +113,9 @@ public:
     [[nodiscard]] std::size_t arcTableOffset(int n) const { return geo_[current_].table_offset[n]; }
 
 private:
+    template <bool kAboveSeabedOnly, class Sink>
+    FlsUpdateStats update(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
+                          Sink& sink);
     // Voxel of a point in voxel units relative to the map corner; -1 outside (NaN too).
     [[nodiscard]] static int64_t voxelOf(const Eigen::Vector3f& p, int nx, int ny, int nz);
 
@@ -139,9 +154,9 @@ private:
 };
 
 // Template body: the mapper instantiates it with MapWriterSink, the bench with a recorder.
-template <class Sink>
-FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
-                                 Sink& sink) {
+template <bool kAboveSeabedOnly, class Sink>
+FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
+                                  Sink& sink) {
     FlsUpdateStats st;
     const Geometry& g = geo_[current_];
     const FlsModel& model = *g.model;
@@ -192,6 +207,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             const Eigen::Vector3f* dir = row_table + static_cast<std::size_t>(col) * n;
             const bool above_seabed =
                 range < seabed_range_[static_cast<std::size_t>(col)] || (highlights && highlight_.at(row, col));
+            if (kAboveSeabedOnly && !above_seabed) continue;
             const uint16_t above_flag = above_seabed ? kHitAboveSeabed : 0;
             for (int k = 0; k < n; ++k) {
                 const int64_t v = voxelOf(sensor + range * dir[k], nx, ny, nz);  // Eq. 4, in voxel units
@@ -202,8 +218,10 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
                 ++st.points_in_map;
                 if (!cfg_.fls_once_per_frame) {
                     // Eq. 6 per candidate point, then the clamp of Eq. 8.
-                    sink.add(static_cast<std::size_t>(v), increment_ * intensity / 255.0f, VoxelMap::kFlsTouched);
-                    ++st.voxels_updated;
+                    if constexpr (!kAboveSeabedOnly) {
+                        sink.add(static_cast<std::size_t>(v), increment_ * intensity / 255.0f, VoxelMap::kFlsTouched);
+                        ++st.voxels_updated;
+                    }
                     if (!dedupe) {
                         if (above_seabed) {
                             sink.aboveSeabed(static_cast<std::size_t>(v));
@@ -224,7 +242,7 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
             }
         }
     }
-    if (cfg_.fls_free_space) {
+    if (cfg_.fls_free_space && !kAboveSeabedOnly) {
         // Per beam, the water before its first return: arcs stepped half a voxel
         // apart in range, up to a voxel diagonal short of that return (so no
         // voxel holding a point of the returning arc is carved). Voxels this
@@ -256,14 +274,16 @@ FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d&
     for (std::size_t i = 0; i < n_touched; ++i) {
         const uint32_t v = touched_[i];
         const uint16_t h = hit_[i];
-        if (h == 0) {
-            sink.add(v, free_increment_, 0);
+        if (h == 0) {  // never with kAboveSeabedOnly (no free space)
+            if constexpr (!kAboveSeabedOnly) sink.add(v, free_increment_, 0);
             ++st.voxels_freed;
         } else {
-            if (cfg_.fls_once_per_frame) {
-                sink.add(v, increment_ * static_cast<float>(h & 0xff) / 255.0f, VoxelMap::kFlsTouched);
-                ++st.voxels_updated;
-            }  // else: every hit point was applied in the loop above
+            if constexpr (!kAboveSeabedOnly) {
+                if (cfg_.fls_once_per_frame) {
+                    sink.add(v, increment_ * static_cast<float>(h & 0xff) / 255.0f, VoxelMap::kFlsTouched);
+                    ++st.voxels_updated;
+                }  // else: every hit point was applied in the loop above
+            }
             if (h & kHitAboveSeabed) {
                 sink.aboveSeabed(v);
                 ++st.voxels_above_seabed;

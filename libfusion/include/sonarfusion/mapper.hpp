@@ -196,9 +196,10 @@ private:
     void holdFrame(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor,
                    const std::optional<SeabedFit>& seabed);
     void replayHeldFrames(int slot);
-    // Awaiting frames judged per incoming FLS frame: each costs about a frame's
-    // update, so a backlog (up to replay_fls_frames) drains over frames instead
-    // of in one; more than one per frame, and oldest first, so the ring, which
+    // Awaiting frames judged per incoming FLS frame: each walks only the arcs
+    // of its pixels the seabed cannot explain (FlsUpdater::applyAboveSeabedVotes),
+    // up to a whole frame's update when they are many, so a backlog (up to
+    // replay_fls_frames) drains over frames instead of in one; more than one per frame, and oldest first, so the ring, which
     // reuses one slot per frame, never takes one before it is judged.
     static constexpr int kAwaitingJudgedPerFrame = 2;
     void judgeAwaitingFrames(int budget);

@@ -37,4 +37,27 @@ private:
     VoxelMap::Writer out_;
 };
 
+// DetectorConfig::replay_pings_carve_only: a held PS ping carved into a map
+// anchored after it adds only its water. `Inner` gets the carving's free-space
+// log-odds updates (every one below zero) without their flag, and the rays;
+// the echo, its end-point hit, the crossing counts and the PS-observed flag,
+// which count the pings the map was made from, are dropped.
+template <class Inner>
+class CarvingOnlySink {
+public:
+    explicit CarvingOnlySink(Inner& inner) : inner_(inner) {}
+    void add(std::size_t v, float delta, uint8_t /*flag*/) {
+        if (delta < 0.0f) inner_.add(v, delta, 0);
+    }
+    void echo(std::size_t /*v*/) {}
+    void ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& carve_end, const Eigen::Vector3d& echo) {
+        inner_.ray(origin, carve_end, echo);
+    }
+    void crossed(std::size_t /*v*/) {}
+    void aboveSeabed(std::size_t /*v*/) {}
+
+private:
+    Inner& inner_;
+};
+
 }  // namespace sonarfusion
