@@ -201,10 +201,7 @@ void Mapper::markLeftMaps(const Eigen::Vector3d& vehicle) {
 }
 
 bool Mapper::reaches(int slot, const Eigen::Vector3d& p, double range) const {
-    const VoxelMap& m = maps_[static_cast<std::size_t>(slot)];
-    const Eigen::Vector3d lo = m.origin(), hi = lo + m.extent();
-    const Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
-    return d.norm() <= range;
+    return maps_[static_cast<std::size_t>(slot)].distanceTo(p) <= range;
 }
 
 int Mapper::activeMaps() const {

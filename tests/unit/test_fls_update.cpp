@@ -41,6 +41,20 @@ struct Fixture {
     }
 };
 
+// Water (8) everywhere but seabed speckle from 5.40 to 7.2 m (rows 160..260):
+// one pixel in eight at 210, the rest at 160; and a 6 x 6 patch of 255 at
+// 5.8 m (rows 232..237, beams 45..50). A flat seabed 4 m below the sensor
+// could first return at 5.40 m.
+test::OwnedFrame speckleWithPatch(const FlsGeometry& g) {
+    auto frame = test::blankFrame(g, 0);
+    for (int row = 0; row < g.rows; ++row)
+        for (int col = 0; col < g.beams; ++col)
+            test::setPixel(frame, row, col, row < 160 || row > 260 ? 8 : (row * 7 + col * 3) % 8 == 0 ? 210 : 160);
+    for (int row = 232; row < 238; ++row)
+        for (int col = 45; col < 51; ++col) test::setPixel(frame, row, col, 255);
+    return frame;
+}
+
 int countNonZero(const VoxelMap& m) {
     int n = 0;
     for (std::size_t i = 0; i < m.size(); ++i) n += m.logOdds(i) != 0.0f;
@@ -313,16 +327,7 @@ TEST(FlsUpdate, AHighlightBeyondTheSeabedRangeCountsAboveIt) {
         SeabedFit flat;
         flat.depth = 4.0;  // the seabed could first return at 5.40 m (previous test)
         up.setSeabed(flat);
-        auto frame = test::blankFrame(fx.geom, 0);
-        // Water (8) everywhere but seabed speckle from 5.40 to 7.2 m (rows 160..260):
-        // one pixel in eight at 210, the rest at 160; a 6 x 6 patch of 255 at
-        // 5.8 m (rows 232..237).
-        for (int row = 0; row < fx.geom.rows; ++row)
-            for (int col = 0; col < fx.geom.beams; ++col)
-                test::setPixel(frame, row, col,
-                               row < 160 || row > 260 ? 8 : (row * 7 + col * 3) % 8 == 0 ? 210 : 160);
-        for (int row = 232; row < 238; ++row)
-            for (int col = 45; col < 51; ++col) test::setPixel(frame, row, col, 255);
+        const auto frame = speckleWithPatch(fx.geom);
         (void)up.apply(frame.view, fx.sensor, fx.map);
         return std::make_pair(fx.map.flsAboveSeabedVotes(fx.expectedVoxel(234, 48, 2)),
                               fx.map.flsAboveSeabedVotes(fx.expectedVoxel(250, 20, 2)));
@@ -362,13 +367,7 @@ TEST(FlsUpdate, TheAboveSeabedPassGivesApplysAboveSeabedVotesAndNothingElse) {
         up.setSeabed(flat);
         // Seabed speckle beyond 5.4 m, a bright patch on it, and returns nearer
         // than the seabed on a few beams (rows 290..300: 4.6-4.8 m).
-        auto frame = test::blankFrame(fx.geom, 0);
-        for (int row = 0; row < fx.geom.rows; ++row)
-            for (int col = 0; col < fx.geom.beams; ++col)
-                test::setPixel(frame, row, col,
-                               row < 160 || row > 260 ? 8 : (row * 7 + col * 3) % 8 == 0 ? 210 : 160);
-        for (int row = 232; row < 238; ++row)
-            for (int col = 45; col < 51; ++col) test::setPixel(frame, row, col, 255);
+        auto frame = speckleWithPatch(fx.geom);
         for (int row = 290; row <= 300; ++row)
             for (int col = 10; col < 14; ++col) test::setPixel(frame, row, col, 200);
         Recorder full, only;

@@ -231,12 +231,6 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
         m.end = static_cast<uint32_t>(s.updates.size());
         s.messages.push_back(m);
     };
-    // Mapper::reaches: some point of the map within `range` of p.
-    const auto reaches = [&](const Eigen::Vector3d& p, double range) {
-        const Eigen::Vector3d lo = mapper.map().origin(), hi = lo + mapper.map().extent();
-        return (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero()).norm() <= range;
-    };
-
     for (const ScenarioLog::Event& ev : log.order) {
         if (ev.kind == ScenarioLog::Event::Nav) {
             nav.add(log.nav[ev.index]);
@@ -266,7 +260,8 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
             counts.initialiseAt(mapper.map().centre());
             if (counts.origin() != mapper.map().origin()) throw std::runtime_error("recorder: count map origin differs from the Mapper's");
             for (const MessageRecord& h : held_pings)
-                if (reaches(h.world_from_sensor.translation(), log.ps[h.source].range_max)) recordPs(h);
+                if (mapper.map().distanceTo(h.world_from_sensor.translation()) <= log.ps[h.source].range_max)
+                    recordPs(h);  // as Mapper::reaches
             for (const Held& h : held) recordFls(h.source, h.world_from_sensor, h.seabed);
         }
         if (!mapping || outcome != Outcome::Used) continue;

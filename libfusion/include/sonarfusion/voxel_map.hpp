@@ -62,6 +62,11 @@ public:
     [[nodiscard]] const Eigen::Vector3d& origin() const { return origin_; }  // min corner
     [[nodiscard]] Eigen::Vector3d centre() const;
     [[nodiscard]] Eigen::Vector3d extent() const { return Eigen::Vector3d(nx_, ny_, nz_) * resolution_; }
+    // Distance from p to the nearest point of the grid's box (0 inside it).
+    [[nodiscard]] double distanceTo(const Eigen::Vector3d& p) const {
+        const Eigen::Vector3d hi = origin_ + extent();
+        return (origin_ - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero()).norm();
+    }
 
     [[nodiscard]] bool contains(const VoxelIndex& v) const {
         return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < nx_ && v.y < ny_ && v.z < nz_;
