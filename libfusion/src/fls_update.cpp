@@ -30,9 +30,8 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
     }
     world_direction_.resize(world);
     if (cfg_.fls_once_per_frame || cfg_.fls_free_space) {
-        slot_.assign(map.size(), 0u);
+        voxel_hit_.assign(map.size(), 0);
         touched_.resize(map.size());
-        hit_.resize(map.size());
     }
     seabed_range_.assign(static_cast<std::size_t>(std::max(model.colCapacity(), model.cols())), 0.0f);
     seabed_row_.assign(seabed_range_.size(), -1);

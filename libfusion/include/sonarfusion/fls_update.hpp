@@ -141,12 +141,16 @@ private:
     int current_ = 0;
     int max_arc_samples_ = 0;    // capacity of the slots beyond 0
     std::vector<Eigen::Vector3f> world_direction_;  // the selected tables rotated into the map frame
-    std::vector<uint32_t> slot_;                    // per voxel: 1 + index into touched_, 0 = untouched
-    std::vector<uint32_t> touched_;                 // voxels hit or freed in this frame
-    // Per touched voxel: the strongest intensity that voted it (0 = freed), and
-    // kHitAboveSeabed when a vote the seabed cannot explain hit it (one store).
+    // Per voxel, this frame: the strongest intensity that voted it,
+    // kHitAboveSeabed when a vote the seabed cannot explain hit it, kTouched
+    // once a vote or the free space reached it (kTouched alone: freed); 0 =
+    // untouched. One load and one store per candidate point, with no index to
+    // follow (it was a per-voxel slot into a per-frame array: two dependent
+    // loads, 4 MB more).
     static constexpr uint16_t kHitAboveSeabed = 0x100;
-    std::vector<uint16_t> hit_;
+    static constexpr uint16_t kTouched = 0x200;
+    std::vector<uint16_t> voxel_hit_;
+    std::vector<uint32_t> touched_;  // voxels hit or freed in this frame, in first-touch order
     std::optional<SeabedFit> seabed_;
     std::vector<float> seabed_range_;               // per column, voxel units (computeSeabedRanges)
     std::vector<int> seabed_row_;                   // per column: the row of seabed_range_ (FlsHighlight)
@@ -230,15 +234,10 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
                         continue;
                     }  // else remember the hit, so free space skips it
                 }
-                uint32_t& s = slot_[v];
-                if (s == 0) {
-                    touched_[n_touched] = static_cast<uint32_t>(v);
-                    hit_[n_touched] = static_cast<uint16_t>(intensity | above_flag);
-                    s = static_cast<uint32_t>(++n_touched);
-                } else {
-                    uint16_t& h = hit_[s - 1];
-                    h = static_cast<uint16_t>(std::max<uint16_t>(h & 0xff, intensity) | (h & kHitAboveSeabed) | above_flag);
-                }
+                uint16_t& h = voxel_hit_[static_cast<std::size_t>(v)];
+                if (h == 0) touched_[n_touched++] = static_cast<uint32_t>(v);
+                h = static_cast<uint16_t>(std::max<uint16_t>(h & 0xff, intensity) | (h & kHitAboveSeabed) | above_flag |
+                                          kTouched);
             }
         }
     }
@@ -260,11 +259,10 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
                 for (int k = 0; k < n; ++k) {
                     const int64_t v = voxelOf(sensor + r * dir[k], nx, ny, nz);
                     if (v < 0) continue;
-                    uint32_t& s = slot_[v];
-                    if (s != 0) continue;
-                    touched_[n_touched] = static_cast<uint32_t>(v);
-                    hit_[n_touched] = 0;
-                    s = static_cast<uint32_t>(++n_touched);
+                    uint16_t& h = voxel_hit_[static_cast<std::size_t>(v)];
+                    if (h != 0) continue;
+                    touched_[n_touched++] = static_cast<uint32_t>(v);
+                    h = kTouched;
                 }
             }
         }
@@ -273,8 +271,8 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
     // intensity, or the free-space update once.
     for (std::size_t i = 0; i < n_touched; ++i) {
         const uint32_t v = touched_[i];
-        const uint16_t h = hit_[i];
-        if (h == 0) {  // never with kAboveSeabedOnly (no free space)
+        const uint16_t h = voxel_hit_[v];
+        if (h == kTouched) {  // freed, no vote (never with kAboveSeabedOnly: no free space)
             if constexpr (!kAboveSeabedOnly) sink.add(v, free_increment_, 0);
             ++st.voxels_freed;
         } else {
@@ -289,7 +287,7 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
                 ++st.voxels_above_seabed;
             }
         }
-        slot_[v] = 0;
+        voxel_hit_[v] = 0;
     }
     return st;
 }
