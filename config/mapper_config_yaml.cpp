@@ -162,6 +162,7 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("seabed_at_echo_centres", g.seabed_at_echo_centres);
     seg.read("seabed_raised_sigmas", g.seabed_raised_sigmas);
     seg.read("low_layers_from_above", g.low_layers_from_above);
+    seg.read("low_layers_widen_where_seen", g.low_layers_widen_where_seen);
     seg.read("ps_echo_radius", g.ps_echo_radius);
     seg.read("ps_echo_min_count", g.ps_echo_min_count);
     seg.rejectUnknownKeys();

@@ -442,6 +442,14 @@ bool Segmenter::recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, i
     return staircase(dx, dy) && (dx == 0 || dy == 0 || (staircase(dx, 0) && staircase(0, dy)));
 }
 
+bool Segmenter::footWidensAt(const VoxelMap& map, const VoxelIndex& c, const VoxelIndex& n, int dx, int dy) const {
+    // The FLS saw it nearer than the seabed could return.
+    if (map.flsAboveSeabedVotes(map.linear(n)) >= std::max(1, cfg_.fls_above_seabed_min_votes)) return true;
+    // The face recedes upward at c: nothing on c, the object one step back over it.
+    const VoxelIndex on{c.x, c.y, c.z - 1}, back{c.x - dx, c.y - dy, c.z - 1};
+    return map.contains(on) && map.contains(back) && !occupied_[map.linear(on)] && occupied_[map.linear(back)];
+}
+
 void Segmenter::label(const VoxelMap& map) {
     const double res = map.resolution();
     const std::size_t layer = static_cast<std::size_t>(nx_) * ny_;
@@ -543,6 +551,12 @@ void Segmenter::label(const VoxelMap& map) {
         // is one layer deeper), so the object's foot cannot walk
         // along the seabed surface, which also lies in the low band.
         if (code == -2 && cfg_.low_layers_from_above && dz != 1) return false;
+        // Diagonally down, only where the map shows the foot widening
+        // (low_layers_widen_where_seen): beside a vertical wall the low band
+        // is the seabed.
+        if (code == -2 && cfg_.low_layers_from_above && cfg_.low_layers_widen_where_seen && (dx != 0 || dy != 0) &&
+            !footWidensAt(map, c, n, dx, dy))
+            return false;
         // Unconfirmed occupied voxels join only straight down from the
         // object: under its top, where the PS is shadowed.
         if (code == -4 && !(dz == 1 && dx == 0 && dy == 0)) return false;

@@ -167,6 +167,7 @@ TEST(Segmentation, LowLayersJoinFromAboveOnlyNotAlongTheSeabed) {
         }
     SegmentationConfig cfg = occupiedSurfaceRules();
     cfg.min_object_height = 0.2;  // iz 78 and 79 are the low band, the box above seeds
+    cfg.low_layers_widen_where_seen = false;  // the ring beside the walls joins too (its own test below)
     Segmenter seg(cfg, true, m);
     ASSERT_EQ(seg.run(m).objects, 1);
     // The box keeps its low layers (under its seeds) and from the sheet takes
@@ -180,6 +181,69 @@ TEST(Segmentation, LowLayersJoinFromAboveOnlyNotAlongTheSeabed) {
     Segmenter spread(cfg, true, m);
     spread.run(m);
     EXPECT_EQ(spread.objects()[0].voxel_count, 100 * 100 - 60 + 600);
+}
+
+// --- The foot widens only where the map shows it (SegmentationConfig::low_layers_widen_where_seen)
+
+namespace {
+// buildScene's box with a PS-confirmed sheet in the low band around it (iz 78,
+// 0.15 m above the seabed surface at 23.0 m): the seabed beside vertical walls,
+// as the PS's echoes and a 0.1 m voxel leave it.
+void addLowSheet(VoxelMap& m) {
+    for (int iy = 0; iy < 100; ++iy)
+        for (int ix = 0; ix < 100; ++ix) {
+            const std::size_t v = m.linear({ix, iy, 78});
+            if (m.logOdds(v) > 0.0f) continue;  // the box's own layer
+            m.add(v, 3.0f);
+            markSeenByPs(m, v);
+        }
+}
+SegmentationConfig lowBandRules() {
+    SegmentationConfig cfg = occupiedSurfaceRules();
+    cfg.min_object_height = 0.2;  // iz 78 and 79 are the low band
+    return cfg;
+}
+}  // namespace
+
+TEST(Segmentation, NoRingOfSeabedBesideAVerticalWall) {
+    VoxelMap m{MapConfig{}};
+    buildScene(m, true);
+    addLowSheet(m);
+    SegmentationConfig cfg = lowBandRules();
+    ASSERT_TRUE(cfg.low_layers_widen_where_seen);  // the default
+    Segmenter seg(cfg, true, m);
+    ASSERT_EQ(seg.run(m).objects, 1);
+    // The box's walls stand straight: the sheet beside them is seabed.
+    EXPECT_EQ(seg.objects()[0].voxel_count, 600);
+    EXPECT_EQ(seg.objectLabel(m.linear({39, 47, 78})), 0);
+    // Where the FLS saw the foot nearer than the seabed, it widens there.
+    m.setFlsAboveSeabedVotes(m.linear({39, 47, 78}), static_cast<uint8_t>(cfg.fls_above_seabed_min_votes));
+    Segmenter voted(cfg, true, m);
+    voted.run(m);
+    EXPECT_EQ(voted.objects()[0].voxel_count, 601);
+    EXPECT_EQ(voted.objectLabel(m.linear({39, 47, 78})), voted.objects()[0].id);
+    // The old rule takes the whole ring diagonally below the seeds' edge.
+    cfg.low_layers_widen_where_seen = false;
+    Segmenter old_rule(cfg, true, m);
+    old_rule.run(m);
+    EXPECT_EQ(old_rule.objects()[0].voxel_count, 600 + 12 * 8 - 10 * 6);
+}
+
+TEST(Segmentation, TheFootOfARecedingFaceWidens) {
+    VoxelMap m{MapConfig{}};
+    buildScene(m, true);
+    // Step the box's top back along -x: iz 70..76 lose their ix 40 column, so
+    // at ix 41 the face recedes upward over the voxel at ix 40, iz 77.
+    for (int iz = 70; iz <= 76; ++iz)
+        for (int iy = 45; iy <= 50; ++iy) m.add(m.linear({40, iy, iz}), -6.0f);
+    addLowSheet(m);
+    Segmenter seg(lowBandRules(), true, m);
+    ASSERT_EQ(seg.run(m).objects, 1);
+    // Below that receding edge the sheet joins (ix 39, iy 45..50, iz 78),
+    // nowhere else along the walls.
+    for (int iy = 45; iy <= 50; ++iy) EXPECT_EQ(seg.objectLabel(m.linear({39, iy, 78})), seg.objects()[0].id) << iy;
+    EXPECT_EQ(seg.objectLabel(m.linear({50, 47, 78})), 0);
+    EXPECT_EQ(seg.objectLabel(m.linear({45, 44, 78})), 0);
 }
 
 // --- Along-track seabed baseline (paper 2.4; SegmentationConfig::baseline_along_track)
@@ -599,6 +663,10 @@ TEST(SegmentationEchoField, TheBaseOfASlopedFaceReachesOneVoxelOutInTheSeabedVox
         SegmentationConfig cfg;
         cfg.base_follows_sloped_faces = rule;
         cfg.min_object_voxels = min_voxels;
+        // The 3-wide bar's low edges join diagonally from its one-voxel ridge,
+        // whose face shows no recession above it (its own test:
+        // NoRingOfSeabedBesideAVerticalWall).
+        cfg.low_layers_widen_where_seen = false;
         Segmenter seg(cfg, true, m);
         const SegmentationStats& st = seg.run(m);
         return st.objects == 1 ? seg.objects()[0].voxel_count : -st.objects;
@@ -646,6 +714,10 @@ TEST(SegmentationEchoField, AnObjectFloodedFromTwoSeedsIsOneObject) {
             }
         SegmentationConfig cfg;
         cfg.join_touching_floods = rule;
+        // The low voxel between the towers joins the first diagonally, beside
+        // its vertical wall: with low_layers_widen_where_seen it would need an
+        // FLS vote there (NoRingOfSeabedBesideAVerticalWall).
+        cfg.low_layers_widen_where_seen = false;
         Segmenter seg(cfg, true, m);
         seg.run(m);
         std::vector<int> counts;

@@ -341,6 +341,16 @@ struct SegmentationConfig {
     // false they join from any side, and the seabed surface voxels, which lie in
     // that band too, carry an object out along the whole seabed.
     bool low_layers_from_above = true;
+    // With low_layers_from_above, a low voxel joins diagonally down (the
+    // object's foot widening in the low band) only where the map shows the
+    // object widening there: the voxel holds fls_above_seabed_min_votes (at
+    // least 1) FLS votes the seabed cannot explain, or the face recedes at the
+    // voxel it joins from (nothing occupied on that voxel, the voxel one step
+    // back over it occupied). Beside a vertical wall the low band is the
+    // seabed, PS-confirmed and at the seabed's height for the FLS; it joined
+    // as a ring one voxel wide (docs/algorithm.md, "The ring beside vertical
+    // walls"). false: from any of the nine voxels of the layer above.
+    bool low_layers_widen_where_seen = true;
     int max_objects = 64;               // fixed-size result
     // The flood fill's join rules are one-way (a low voxel joins only from
     // above, a seabed voxel only straight down, ...), so which voxels an

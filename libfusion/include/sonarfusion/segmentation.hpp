@@ -72,6 +72,9 @@ private:
     // Whether a voxel beside c in its own layer (4-neighbourhood) is occupied.
     [[nodiscard]] bool besideOccupied(const VoxelMap& map, const VoxelIndex& c) const;
     [[nodiscard]] bool recedingFoot(const VoxelMap& map, const VoxelIndex& c, int dx, int dy) const;
+    // low_layers_widen_where_seen: whether the low voxel n, one step (dx, dy)
+    // across and one layer down from the object voxel c, shows the object widening.
+    [[nodiscard]] bool footWidensAt(const VoxelMap& map, const VoxelIndex& c, const VoxelIndex& n, int dx, int dy) const;
     void markConfirmed(const VoxelMap& map);
     void dropWaterAboveEchoes(const VoxelMap& map);
     void dropMirrorEchoes(const VoxelMap& map);
