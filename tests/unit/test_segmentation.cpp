@@ -150,41 +150,6 @@ TEST(SegmentationEcho, EchoCountSaturatesInTheFlagByte) {
     EXPECT_EQ(m.psEchoCount(6), 0);
 }
 
-// --- Hysteresis only downward (SegmentationConfig::low_layers_from_above)
-
-TEST(Segmentation, LowLayersJoinFromAboveOnlyNotAlongTheSeabed) {
-    VoxelMap m{MapConfig{}};
-    buildScene(m, true);
-    // A confirmed sheet just above the seabed everywhere, one empty layer
-    // between (iz 78, centre 0.15 m above the surface at 23.0 m): FLS arcs and
-    // PS echoes scattered just above the seabed.
-    for (int iy = 0; iy < 100; ++iy)
-        for (int ix = 0; ix < 100; ++ix) {
-            const std::size_t v = m.linear({ix, iy, 78});
-            if (m.logOdds(v) > 0.0f) continue;  // the box's own layer
-            m.add(v, 3.0f);
-            markSeenByPs(m, v);
-        }
-    SegmentationConfig cfg = occupiedSurfaceRules();
-    cfg.min_object_height = 0.2;  // iz 78 and 79 are the low band, the box above seeds
-    cfg.low_layers_widen_where_seen = false;  // the ring beside the walls joins too (its own test below)
-    Segmenter seg(cfg, true, m);
-    ASSERT_EQ(seg.run(m).objects, 1);
-    // The box keeps its low layers (under its seeds) and from the sheet takes
-    // only the ring diagonally below its seeds' edge.
-    const int ring = 12 * 8 - 10 * 6;
-    EXPECT_EQ(seg.objects()[0].voxel_count, 600 + ring);
-    EXPECT_EQ(seg.objectLabel(m.linear({45, 47, 79})), seg.objects()[0].id);
-    EXPECT_EQ(seg.objectLabel(m.linear({20, 20, 78})), 0);
-    // Joined from any side, the foot walks along the whole sheet.
-    cfg.low_layers_from_above = false;
-    Segmenter spread(cfg, true, m);
-    spread.run(m);
-    EXPECT_EQ(spread.objects()[0].voxel_count, 100 * 100 - 60 + 600);
-}
-
-// --- The foot widens only where the map shows it (SegmentationConfig::low_layers_widen_where_seen)
-
 namespace {
 // buildScene's box with a PS-confirmed sheet in the low band around it (iz 78,
 // 0.15 m above the seabed surface at 23.0 m): the seabed beside vertical walls,
@@ -204,6 +169,34 @@ SegmentationConfig lowBandRules() {
     return cfg;
 }
 }  // namespace
+
+// --- Hysteresis only downward (SegmentationConfig::low_layers_from_above)
+
+TEST(Segmentation, LowLayersJoinFromAboveOnlyNotAlongTheSeabed) {
+    VoxelMap m{MapConfig{}};
+    buildScene(m, true);
+    // A confirmed sheet just above the seabed everywhere, one empty layer
+    // between: FLS arcs and PS echoes scattered just above the seabed.
+    addLowSheet(m);
+    SegmentationConfig cfg = lowBandRules();  // iz 78 and 79 are the low band, the box above seeds
+    cfg.low_layers_widen_where_seen = false;  // the ring beside the walls joins too (its own test below)
+    Segmenter seg(cfg, true, m);
+    ASSERT_EQ(seg.run(m).objects, 1);
+    // The box keeps its low layers (under its seeds) and from the sheet takes
+    // only the ring diagonally below its seeds' edge.
+    const int ring = 12 * 8 - 10 * 6;
+    EXPECT_EQ(seg.objects()[0].voxel_count, 600 + ring);
+    EXPECT_EQ(seg.objectLabel(m.linear({45, 47, 79})), seg.objects()[0].id);
+    EXPECT_EQ(seg.objectLabel(m.linear({20, 20, 78})), 0);
+    // Joined from any side, the foot walks along the whole sheet.
+    cfg.low_layers_from_above = false;
+    Segmenter spread(cfg, true, m);
+    spread.run(m);
+    EXPECT_EQ(spread.objects()[0].voxel_count, 100 * 100 - 60 + 600);
+}
+
+// --- The foot widens only where the map shows it (SegmentationConfig::low_layers_widen_where_seen)
+
 
 TEST(Segmentation, NoRingOfSeabedBesideAVerticalWall) {
     VoxelMap m{MapConfig{}};
