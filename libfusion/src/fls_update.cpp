@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 namespace sonarfusion {
 
@@ -28,10 +30,16 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
         geo_[i].sensor_direction.reserve(capacity);
         world = std::max(world, capacity);
     }
-    world_direction_.resize(world);
+    world_x_.resize(world);
+    world_y_.resize(world);
+    world_z_.resize(world);
+    arc_voxel_.resize(static_cast<std::size_t>(std::max(max_arc_samples_, geo_[0].table_samples)));
+    // Voxel indices are 32-bit in the arc loops (arcVoxels), the words past the map included.
+    if (map.size() + arc_voxel_.size() >= static_cast<std::size_t>(std::numeric_limits<int32_t>::max()))
+        throw std::invalid_argument("FLS update supports maps of fewer than 2^31 - 1 voxels");
     if (cfg_.fls_once_per_frame || cfg_.fls_free_space) {
-        voxel_hit_.assign(map.size(), 0);
-        touched_.resize(map.size());
+        voxel_hit_.assign(map.size() + arc_voxel_.size(), 0);  // + the words outside (arcVoxels)
+        touched_.resize(voxel_hit_.size() + 1);
     }
     seabed_range_.assign(static_cast<std::size_t>(std::max(model.colCapacity(), model.cols())), 0.0f);
     seabed_row_.assign(seabed_range_.size(), -1);
@@ -51,12 +59,12 @@ void FlsUpdater::computeSeabedRanges(const Geometry& g, const Eigen::Vector3d& s
     const double margin = 3.0 * f.rms + 0.5 * resolution;
     const double depth_below = f.depthAt(sensor_world.head<2>()) - sensor_world.z() - margin;
     const int n = g.table_samples;
-    const Eigen::Vector3f* table = &world_direction_[g.table_offset[n]];
     for (int col = 0; col < cols; ++col) {
         double nearest = 0.0;  // no steeper ray reaches the seabed: nothing is nearer than it
         bool reaches = false;
         for (int k = 0; k < n; ++k) {
-            const Eigen::Vector3f& d = table[static_cast<std::size_t>(col) * n + k];
+            const std::size_t i = g.table_offset[n] + static_cast<std::size_t>(col) * n + k;
+            const Eigen::Vector3f d(world_x_[i], world_y_[i], world_z_[i]);
             const double rise = f.closingRate(d);
             if (rise > 1e-6 && depth_below > 0.0) {
                 nearest = reaches ? std::min(nearest, depth_below / rise) : depth_below / rise;
@@ -123,13 +131,19 @@ int FlsUpdater::arcSamples(double range) const {
     return arcSamplesFor(range, m.elevationMax() - m.elevationMin(), m.elevationSamples(), arc_spacing_);
 }
 
-int64_t FlsUpdater::voxelOf(const Eigen::Vector3f& p, int nx, int ny, int nz) {
-    // Bounds on the raw coordinates (NaN fails them); inside the grid they are
-    // >= 0, where truncation equals floor() and is cheaper.
-    if (!(p.x() >= 0.0f && p.y() >= 0.0f && p.z() >= 0.0f && p.x() < nx && p.y() < ny && p.z() < nz)) return -1;
-    return static_cast<int64_t>(latticeIndex(static_cast<std::size_t>(p.x()), static_cast<std::size_t>(p.y()),
-                                             static_cast<std::size_t>(p.z()), static_cast<std::size_t>(nx),
-                                             static_cast<std::size_t>(ny)));
+FlsUpdater::Grid FlsUpdater::gridOf(const VoxelMap& map) {
+    Grid grid{};
+    grid.nx = map.nx();
+    grid.ny = map.ny();
+    grid.nz = map.nz();
+    grid.fnx = static_cast<float>(grid.nx);
+    grid.fny = static_cast<float>(grid.ny);
+    grid.fnz = static_cast<float>(grid.nz);
+    grid.fnx1 = grid.fnx - 1.0f;
+    grid.fny1 = grid.fny - 1.0f;
+    grid.fnz1 = grid.fnz - 1.0f;
+    grid.outside = static_cast<uint32_t>(map.size());
+    return grid;
 }
 
 FlsUpdateStats FlsUpdater::apply(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, VoxelMap& map) {

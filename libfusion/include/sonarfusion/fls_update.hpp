@@ -116,8 +116,20 @@ private:
     template <bool kAboveSeabedOnly, class Sink>
     FlsUpdateStats update(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor, const VoxelMap& map,
                           Sink& sink);
-    // Voxel of a point in voxel units relative to the map corner; -1 outside (NaN too).
-    [[nodiscard]] static int64_t voxelOf(const Eigen::Vector3f& p, int nx, int ny, int nz);
+    // The map's lattice in the arc loops' terms, taken once per frame.
+    struct Grid {
+        int nx, ny, nz;
+        float fnx, fny, fnz;     // bounds on a point's coordinates (voxel units)
+        float fnx1, fny1, fnz1;  // the last voxel's coordinates
+        uint32_t outside;        // one past the map: sample k outside it gets voxel outside + k
+    };
+    [[nodiscard]] static Grid gridOf(const VoxelMap& map);
+    // Eq. 4 for the n candidate points of one arc: sensor + range * direction
+    // (voxel units, map corner at 0) for the directions at `offset` in the
+    // selected world tables. Each point's voxel goes to arc_voxel_[0..n), one
+    // outside the map (NaN too) to grid.outside + k; returns how many were outside.
+    // Branch-free, so the compiler computes several points per instruction.
+    int arcVoxels(const Eigen::Vector3f& sensor, float range, std::size_t offset, int n, const Grid& grid);
 
     // The arc tables of one geometry.
     struct Geometry {
@@ -140,22 +152,53 @@ private:
     std::vector<Geometry> geo_;  // slot 0: the constructor's model
     int current_ = 0;
     int max_arc_samples_ = 0;    // capacity of the slots beyond 0
-    std::vector<Eigen::Vector3f> world_direction_;  // the selected tables rotated into the map frame
+    // The selected tables rotated into the map frame, one array per axis so
+    // one arc's points are computed several at a time (arcVoxels).
+    std::vector<float> world_x_, world_y_, world_z_;
+    std::vector<uint32_t> arc_voxel_;  // one arc's voxels (arcVoxels)
     // Per voxel, this frame: the strongest intensity that voted it,
     // kHitAboveSeabed when a vote the seabed cannot explain hit it, kTouched
     // once a vote or the free space reached it (kTouched alone: freed); 0 =
-    // untouched. One load and one store per candidate point, with no index to
+    // untouched. One word more per arc sample past the map: where points
+    // outside it land (Grid::outside), so the loops need no branch for them. One load and one store per candidate point, with no index to
     // follow (it was a per-voxel slot into a per-frame array: two dependent
     // loads, 4 MB more).
     static constexpr uint16_t kHitAboveSeabed = 0x100;
     static constexpr uint16_t kTouched = 0x200;
     std::vector<uint16_t> voxel_hit_;
-    std::vector<uint32_t> touched_;  // voxels hit or freed in this frame, in first-touch order
+    // Voxels hit or freed in this frame, in first-touch order; one longer than
+    // voxel_hit_: the slot each loop writes before it counts.
+    std::vector<uint32_t> touched_;
     std::optional<SeabedFit> seabed_;
     std::vector<float> seabed_range_;               // per column, voxel units (computeSeabedRanges)
     std::vector<int> seabed_row_;                   // per column: the row of seabed_range_ (FlsHighlight)
     FlsHighlight highlight_;                        // per frame, with fls_highlight_above_seabed and a seabed
 };
+
+inline int FlsUpdater::arcVoxels(const Eigen::Vector3f& sensor, float range, std::size_t offset, int n,
+                                  const Grid& grid) {
+    const float* dx = world_x_.data() + offset;
+    const float* dy = world_y_.data() + offset;
+    const float* dz = world_z_.data() + offset;
+    uint32_t* arc = arc_voxel_.data();
+    int outside = 0;
+    for (int k = 0; k < n; ++k) {  // Eq. 4, in voxel units
+        const float px = sensor.x() + range * dx[k], py = sensor.y() + range * dy[k], pz = sensor.z() + range * dz[k];
+        // Bounds on the raw coordinates (NaN fails them), joined with & not &&: no branch.
+        const bool inside = (px >= 0.0f) & (py >= 0.0f) & (pz >= 0.0f) & (px < grid.fnx) & (py < grid.fny) &
+                            (pz < grid.fnz);
+        // Clamped into the grid first, so the conversion is defined for any value;
+        // inside it they are >= 0, where truncation equals floor().
+        const int32_t ix = static_cast<int32_t>(std::min(std::max(0.0f, px), grid.fnx1));
+        const int32_t iy = static_cast<int32_t>(std::min(std::max(0.0f, py), grid.fny1));
+        const int32_t iz = static_cast<int32_t>(std::min(std::max(0.0f, pz), grid.fnz1));
+        // Outside: a word of its own per sample, so consecutive outside points
+        // do not wait on each other's store to one word.
+        arc[k] = inside ? static_cast<uint32_t>((iz * grid.ny + iy) * grid.nx + ix) : grid.outside + static_cast<uint32_t>(k);
+        outside += !inside;
+    }
+    return outside;
+}
 
 // Template body: the mapper instantiates it with MapWriterSink, the bench with a recorder.
 template <bool kAboveSeabedOnly, class Sink>
@@ -165,11 +208,16 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
     const Geometry& g = geo_[current_];
     const FlsModel& model = *g.model;
     const Eigen::Matrix3f rot = world_from_sensor.linear().cast<float>();
-    for (std::size_t i = 0; i < g.sensor_direction.size(); ++i) world_direction_[i] = rot * g.sensor_direction[i];
+    for (std::size_t i = 0; i < g.sensor_direction.size(); ++i) {
+        const Eigen::Vector3f d = rot * g.sensor_direction[i];
+        world_x_[i] = d.x();
+        world_y_[i] = d.y();
+        world_z_[i] = d.z();
+    }
     // Work relative to the map's min corner in voxel units: small numbers, float is exact enough.
     const float inv_res = static_cast<float>(1.0 / map.resolution());
     const Eigen::Vector3f sensor = ((world_from_sensor.translation() - map.origin()) / map.resolution()).cast<float>();
-    const int nx = map.nx(), ny = map.ny(), nz = map.nz();
+    const Grid grid = gridOf(map);
     const bool dedupe = cfg_.fls_once_per_frame || cfg_.fls_free_space;
     std::size_t n_touched = 0;
     computeSeabedRanges(g, world_from_sensor.translation(), map.resolution());
@@ -203,39 +251,42 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
         const uint8_t* line = frame.data + static_cast<std::size_t>(row) * frame.cols;
         const float range = static_cast<float>(model.rangeOfRow(row)) * inv_res;
         const int n = g.row_samples[row];
-        const Eigen::Vector3f* row_table = &world_direction_[g.table_offset[n]];
+        const std::size_t row_table = g.table_offset[n];
         for (int col = 0; col < frame.cols; ++col) {
             const uint8_t intensity = line[col];
             if (intensity <= cfg_.fls_intensity_threshold) continue;  // paper 2.2: > 150 only
             ++st.pixels_above_threshold;
-            const Eigen::Vector3f* dir = row_table + static_cast<std::size_t>(col) * n;
             const bool above_seabed =
                 range < seabed_range_[static_cast<std::size_t>(col)] || (highlights && highlight_.at(row, col));
             if (kAboveSeabedOnly && !above_seabed) continue;
             const uint16_t above_flag = above_seabed ? kHitAboveSeabed : 0;
-            for (int k = 0; k < n; ++k) {
-                const int64_t v = voxelOf(sensor + range * dir[k], nx, ny, nz);  // Eq. 4, in voxel units
-                if (v < 0) {
-                    ++st.points_outside_map;
-                    continue;
-                }
-                ++st.points_in_map;
-                if (!cfg_.fls_once_per_frame) {
+            const int outside = arcVoxels(sensor, range, row_table + static_cast<std::size_t>(col) * n, n, grid);
+            st.points_outside_map += outside;
+            st.points_in_map += n - outside;
+            const uint32_t* arc = arc_voxel_.data();
+            if (!cfg_.fls_once_per_frame) {
+                for (int k = 0; k < n; ++k) {
+                    const uint32_t v = arc[k];
+                    if (v >= grid.outside) continue;  // skipped, never written
                     // Eq. 6 per candidate point, then the clamp of Eq. 8.
                     if constexpr (!kAboveSeabedOnly) {
-                        sink.add(static_cast<std::size_t>(v), increment_ * intensity / 255.0f, VoxelMap::kFlsTouched);
+                        sink.add(v, increment_ * intensity / 255.0f, VoxelMap::kFlsTouched);
                         ++st.voxels_updated;
                     }
-                    if (!dedupe) {
-                        if (above_seabed) {
-                            sink.aboveSeabed(static_cast<std::size_t>(v));
-                            ++st.voxels_above_seabed;
-                        }
-                        continue;
-                    }  // else remember the hit, so free space skips it
+                    if (!dedupe && above_seabed) {
+                        sink.aboveSeabed(v);
+                        ++st.voxels_above_seabed;
+                    }
                 }
-                uint16_t& h = voxel_hit_[static_cast<std::size_t>(v)];
-                if (h == 0) touched_[n_touched++] = static_cast<uint32_t>(v);
+                if (!dedupe) continue;
+            }  // and with dedupe remember the hits, so free space skips them
+            for (int k = 0; k < n; ++k) {
+                const uint32_t v = arc[k];
+                uint16_t& h = voxel_hit_[v];
+                // Appended unconditionally, kept only on first touch: no branch
+                // to mispredict where neighbouring rows meet the same voxel.
+                touched_[n_touched] = v;
+                n_touched += h == 0;
                 h = static_cast<uint16_t>(std::max<uint16_t>(h & 0xff, intensity) | (h & kHitAboveSeabed) | above_flag |
                                           kTouched);
             }
@@ -255,14 +306,13 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
                 static_cast<float>(first < 0 ? model.rangeMax() : model.rangeOfRow(first)) * inv_res;
             for (float r = r_min; r < r_first - margin; r += 0.5f) {
                 const int n = arcSamples(r * map.resolution());
-                const Eigen::Vector3f* dir = &world_direction_[g.table_offset[n] + static_cast<std::size_t>(col) * n];
+                (void)arcVoxels(sensor, r, g.table_offset[n] + static_cast<std::size_t>(col) * n, n, grid);
                 for (int k = 0; k < n; ++k) {
-                    const int64_t v = voxelOf(sensor + r * dir[k], nx, ny, nz);
-                    if (v < 0) continue;
-                    uint16_t& h = voxel_hit_[static_cast<std::size_t>(v)];
-                    if (h != 0) continue;
-                    touched_[n_touched++] = static_cast<uint32_t>(v);
-                    h = kTouched;
+                    const uint32_t v = arc_voxel_[static_cast<std::size_t>(k)];
+                    uint16_t& h = voxel_hit_[v];
+                    touched_[n_touched] = v;  // kept only on first touch, as above
+                    n_touched += h == 0;
+                    h |= kTouched;  // a hit word already holds it
                 }
             }
         }
@@ -272,6 +322,10 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
     for (std::size_t i = 0; i < n_touched; ++i) {
         const uint32_t v = touched_[i];
         const uint16_t h = voxel_hit_[v];
+        if (v >= grid.outside) {  // the points outside the map: counted above, never written
+            voxel_hit_[v] = 0;
+            continue;
+        }
         if (h == kTouched) {  // freed, no vote (never with kAboveSeabedOnly: no free space)
             if constexpr (!kAboveSeabedOnly) sink.add(v, free_increment_, 0);
             ++st.voxels_freed;
