@@ -159,10 +159,10 @@ private:
     // Per voxel, this frame: the strongest intensity that voted it,
     // kHitAboveSeabed when a vote the seabed cannot explain hit it, kTouched
     // once a vote or the free space reached it (kTouched alone: freed); 0 =
-    // untouched. One word more per arc sample past the map: where points
-    // outside it land (Grid::outside), so the loops need no branch for them. One load and one store per candidate point, with no index to
+    // untouched. One load and one store per candidate point, with no index to
     // follow (it was a per-voxel slot into a per-frame array: two dependent
-    // loads, 4 MB more).
+    // loads, 4 MB more). One word more per arc sample past the map: where
+    // points outside it land (Grid::outside), so the loops need no branch.
     static constexpr uint16_t kHitAboveSeabed = 0x100;
     static constexpr uint16_t kTouched = 0x200;
     std::vector<uint16_t> voxel_hit_;
@@ -192,8 +192,9 @@ inline int FlsUpdater::arcVoxels(const Eigen::Vector3f& sensor, float range, std
         const int32_t ix = static_cast<int32_t>(std::min(std::max(0.0f, px), grid.fnx1));
         const int32_t iy = static_cast<int32_t>(std::min(std::max(0.0f, py), grid.fny1));
         const int32_t iz = static_cast<int32_t>(std::min(std::max(0.0f, pz), grid.fnz1));
-        // Outside: a word of its own per sample, so consecutive outside points
-        // do not wait on each other's store to one word.
+        // latticeIndex in 32-bit arithmetic (its size_t would keep SSE2 from
+        // vectorising the loop). Outside: a word of its own per sample, so
+        // consecutive outside points do not wait on each other's store to one word.
         arc[k] = inside ? static_cast<uint32_t>((iz * grid.ny + iy) * grid.nx + ix) : grid.outside + static_cast<uint32_t>(k);
         outside += !inside;
     }
