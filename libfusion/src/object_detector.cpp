@@ -60,17 +60,93 @@ const std::optional<SeabedFit>& ObjectDetector::seabedAtNewestEcho() const {
 std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim trim) const {
     const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
     const bool lower = trim == Trim::LowerEnvelope;
-    // LowerEnvelope starts from the echoes no shallower than their median
-    // depth: a level cut, which a plane tilted onto an object on one side
-    // cannot fool (a first pass: seabed behind, object ahead).
-    double median_depth = 0.0;
-    if (lower) {
-        int m = 0;
+    auto inDisc = [&](int i) {
+        return seabed_state_[i] != EchoState::RisenLater && (seabed_[i].head<2>() - xy).squaredNorm() <= r2;
+    };
+    int m = 0;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    double depth0 = 0.0;
+    for (int i = 0; i < seabed_count_; ++i)
+        if (inDisc(i)) {
+            centre += seabed_[i].head<2>();
+            depth0 += seabed_[i].z();
+            ++m;
+        }
+    if (m < cfg_.min_seabed_echoes) return std::nullopt;
+    centre /= m;
+    depth0 /= m;
+    // DetectorConfig::seabed_across_lines. The PS places its echoes on the
+    // track line, so a line flown beside an earlier one lies across from every
+    // echo of that line, where the line's plane is an extrapolation whose tilt
+    // across no echo measured (the ridge below levels it). So a plane judges
+    // only where a quarter of min_seabed_echoes (as the trims below keep) lie
+    // within cluster_radius of xy across the echoes' long axis: over that
+    // distance a 5 deg slope moves the seabed 4 cm, under half of min_rise.
+    // Elsewhere there is no plane yet, and echoes wait as at a mission's start
+    // (judge_early_echoes).
+    Eigen::Vector2d across = Eigen::Vector2d::UnitY();
+    if (cfg_.seabed_across_lines) {
+        // The line's direction: the long axis of the echoes within
+        // cluster_radius of xy (the eigenvector of the smaller eigenvalue is
+        // across it). Over the whole disc two lines of unequal length (a new
+        // one just begun beside an old one) tilt the axis off both.
+        const double c2 = cfg_.cluster_radius * cfg_.cluster_radius;
+        Eigen::Matrix2d near_spread = Eigen::Matrix2d::Zero(), spread = Eigen::Matrix2d::Zero();
+        Eigen::Vector2d near_sum = Eigen::Vector2d::Zero();
+        int near = 0;
         for (int i = 0; i < seabed_count_; ++i)
-            if (seabed_state_[i] != EchoState::RisenLater && (seabed_[i].head<2>() - xy).squaredNorm() <= r2)
-                residual_[m++] = seabed_[i].z();
-        if (m < cfg_.min_seabed_echoes) return std::nullopt;
-        median_depth = medianInPlace(residual_, static_cast<std::size_t>(m));
+            if (inDisc(i)) {
+                const Eigen::Vector2d d = seabed_[i].head<2>() - centre;
+                spread += d * d.transpose();
+                if ((seabed_[i].head<2>() - xy).squaredNorm() <= c2) {
+                    near_sum += seabed_[i].head<2>();
+                    ++near;
+                }
+            }
+        if (near >= 3) {
+            const Eigen::Vector2d near_centre = near_sum / near;
+            for (int i = 0; i < seabed_count_; ++i)
+                if (inDisc(i) && (seabed_[i].head<2>() - xy).squaredNorm() <= c2) {
+                    const Eigen::Vector2d d = seabed_[i].head<2>() - near_centre;
+                    near_spread += d * d.transpose();
+                }
+        }
+        // Near echoes that do not lie along a line (a sweep zig-zagging
+        // across the track, widths at least half their lengths) say nothing
+        // of its direction: then the whole disc's axis.
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> local(near_spread);
+        const bool along_a_line = near >= 3 && local.eigenvalues()(0) < 0.25 * local.eigenvalues()(1);
+        across = along_a_line ? Eigen::Vector2d(local.eigenvectors().col(0))
+                              : Eigen::Vector2d(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(spread).eigenvectors().col(0));
+        const double u_xy = across.dot(xy - centre);
+        int beside = 0;
+        for (int i = 0; i < seabed_count_; ++i)
+            if (inDisc(i)) beside += std::fabs(across.dot(seabed_[i].head<2>() - centre) - u_xy) <= cfg_.cluster_radius;
+        if (beside < std::max(3, cfg_.min_seabed_echoes / 4)) return std::nullopt;
+    }
+    // LowerEnvelope starts from the echoes no shallower than their median
+    // about a plane level along the track (a level cut, which a plane tilted
+    // onto an object on one side cannot fool: a first pass, seabed behind,
+    // object ahead). With seabed_across_lines that plane is tilted across the
+    // echoes' long axis as the echoes there lie: on a seabed sloping across
+    // two lines a level cut kept only the downhill one. One line has no spread
+    // across itself, and the ridge leaves that tilt level: the level cut.
+    double median_residual = 0.0, tilt = 0.0;
+    if (lower) {
+        if (cfg_.seabed_across_lines) {
+            double suu = 1e-3 * m, suz = 0.0;  // the plane fits' ridge: (3 cm)^2 per echo
+            for (int i = 0; i < seabed_count_; ++i)
+                if (inDisc(i)) {
+                    const double u = across.dot(seabed_[i].head<2>() - centre);
+                    suu += u * u;
+                    suz += u * (seabed_[i].z() - depth0);
+                }
+            tilt = suz / suu;
+        }
+        int k = 0;
+        for (int i = 0; i < seabed_count_; ++i)
+            if (inDisc(i)) residual_[k++] = seabed_[i].z() - depth0 - tilt * across.dot(seabed_[i].head<2>() - centre);
+        median_residual = medianInPlace(residual_, static_cast<std::size_t>(k));
     }
     SeabedFit f;
     const int passes = lower ? 6 : 4;
@@ -98,7 +174,8 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
             if (pass == 0) return true;
             const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
             if (lower) {
-                if (pass == 1) return p.z() >= median_depth;
+                if (pass == 1)
+                    return p.z() - depth0 - tilt * across.dot(p.head<2>() - centre) >= median_residual;
                 if (pass == 2) return residual >= 0.0;  // then the lower half about that plane
                 return std::fabs(residual) <= 3.0 * scatter;
             }

@@ -308,6 +308,47 @@ TEST(ObjectDetector, TheFootprintSeabedFollowsASlope) {
     EXPECT_GT(f->rms, 0.015);  // the seabed's own scatter, both sides, not the lower half's
 }
 
+// DetectorConfig::seabed_across_lines (docs/algorithm.md, "Two lines on a
+// slope across them"): the PS places its echoes on the track line, so two
+// passes 2 m apart over a 5 deg slope across them leave two lines of echoes
+// 0.17 m apart in depth. The second line's seabed is not a rise, and an object
+// on it still is.
+TEST(ObjectDetector, ALineBesideAnEarlierOneOnASlopeAcrossThemIsNotARise) {
+    const double slope = std::tan(5.0 * M_PI / 180.0);
+    auto depth = [&](double y) { return 20.0 - slope * y; };  // rising towards +y
+    for (const bool across : {false, true}) {
+        DetectorConfig cfg;
+        cfg.seabed_across_lines = across;
+        ObjectDetector det{cfg};
+        std::mt19937 rng(9);
+        std::normal_distribution<double> noise(0.0, 0.02);
+        int fired = 0;
+        for (int i = 0; i < 400; ++i)  // pass 1, north along y = -1
+            fired += det.addEchoPoint(Eigen::Vector3d(i * 0.02, -1.0, depth(-1.0) + noise(rng)));
+        EXPECT_EQ(fired, 0);
+        int fired_bare = 0, fired_post = 0;
+        for (int i = 0; i < 400; ++i) {  // pass 2, south along y = +1 (uphill), a 0.3 m post at x 2
+            const double x = 8.0 - i * 0.02;
+            const bool post = std::fabs(x - 2.0) < 0.2;
+            const bool risen = det.addEchoPoint(Eigen::Vector3d(x, 1.0, depth(1.0) - (post ? 0.3 : 0.0) + noise(rng)));
+            (x > 2.6 ? fired_bare : fired_post) += risen;
+            if (risen && across) {
+                EXPECT_NEAR(det.detection()->x(), 2.0, 0.3) << "declared on bare seabed at echo " << i;
+            }
+        }
+        if (!across) {
+            EXPECT_GT(fired_bare, 0);  // the uphill line's bare seabed declared objects
+            continue;
+        }
+        EXPECT_EQ(fired_bare, 0);
+        EXPECT_GE(fired_post, 1);  // the detector stays armed: fresh echoes of the post declare again
+        const std::optional<SeabedFit> f = det.seabedAt(Eigen::Vector2d(4.0, 1.0));
+        ASSERT_TRUE(f.has_value());
+        EXPECT_NEAR(f->depthAt(Eigen::Vector2d(4.0, 1.0)), depth(1.0), 0.03);
+        EXPECT_NEAR(f->gradient.y(), -slope, 0.02);
+    }
+}
+
 // DetectorConfig::nearest_echo_sigmas, the detector's side: a ping's nearer
 // echo is judged against the plane its strongest (seabed) echo was, counts as
 // its one risen echo, and never joins the seabed's fits.

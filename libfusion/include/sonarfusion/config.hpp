@@ -246,6 +246,17 @@ struct DetectorConfig {
     // echoes taken as seabed before any plane existed (a PS whose first sweeps
     // fall on the object) do not lift it. False: from all the echoes (paper).
     bool rise_from_lower_envelope = true;
+    // The PS places its echoes on the track line, so a line flown beside an
+    // earlier one lies across from all of that line's echoes. With this on, a
+    // seabed plane judges only where some of its echoes lie within
+    // cluster_radius across their long axis (elsewhere there is no plane yet,
+    // and echoes wait as before any plane existed), and the lower envelope's
+    // first cut is level along that axis and tilted across it as the echoes
+    // lie. False: the level cut over every echo within seabed_radius, and a
+    // plane wherever min_seabed_echoes lie: on a 5 deg slope across two
+    // passes 2 m apart the uphill line stood 0.17 m above the downhill line's
+    // plane (docs/algorithm.md, "Two lines on a slope across them").
+    bool seabed_across_lines = true;
     // Echoes taken before a plane existed where they lie are judged when one
     // first does there: a risen one joins the risen echoes (and leaves the
     // seabed's fits). False: they stay seabed for good.
