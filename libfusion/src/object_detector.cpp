@@ -21,6 +21,7 @@ ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
     seabed_.assign(cfg.seabed_capacity, Eigen::Vector3d::Zero());
     seabed_state_.assign(cfg.seabed_capacity, EchoState::Seabed);
     residual_.assign(cfg.seabed_capacity, 0.0);
+    disc_.assign(cfg.seabed_capacity, 0);
     risen_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
     shadows_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
 }
@@ -58,23 +59,29 @@ const std::optional<SeabedFit>& ObjectDetector::seabedAtNewestEcho() const {
 // min_seabed_echoes (more than one head sweep) keeps a first sweep that is
 // mostly object from being judged alone.
 std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim trim) const {
+    const std::optional<Disc> disc = discAt(xy);
+    if (!disc) return std::nullopt;
+    return fitDisc(*disc, trim);
+}
+
+// The echoes within seabed_radius of xy (their slots go to disc_, in ring
+// order, so every later pass sums as a pass over the ring would) and what
+// both trims need of them; nothing when they are too few or, with
+// seabed_across_lines, when too few lie across from xy.
+std::optional<ObjectDetector::Disc> ObjectDetector::discAt(const Eigen::Vector2d& xy) const {
     const double r2 = cfg_.seabed_radius * cfg_.seabed_radius;
-    const bool lower = trim == Trim::LowerEnvelope;
-    auto inDisc = [&](int i) {
-        return seabed_state_[i] != EchoState::RisenLater && (seabed_[i].head<2>() - xy).squaredNorm() <= r2;
-    };
-    int m = 0;
-    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-    double depth0 = 0.0;
+    Disc d;
     for (int i = 0; i < seabed_count_; ++i)
-        if (inDisc(i)) {
-            centre += seabed_[i].head<2>();
-            depth0 += seabed_[i].z();
-            ++m;
+        if (seabed_state_[i] != EchoState::RisenLater && (seabed_[i].head<2>() - xy).squaredNorm() <= r2) {
+            disc_[d.m++] = i;
+            d.centre += seabed_[i].head<2>();
+            d.depth0 += seabed_[i].z();
         }
-    if (m < cfg_.min_seabed_echoes) return std::nullopt;
-    centre /= m;
-    depth0 /= m;
+    if (d.m < cfg_.min_seabed_echoes) return std::nullopt;
+    d.centre /= d.m;
+    d.depth0 /= d.m;
+    const int* const begin = disc_.data();
+    const int* const end = begin + d.m;
     // DetectorConfig::seabed_across_lines. The PS places its echoes on the
     // track line, so a line flown beside an earlier one lies across from every
     // echo of that line, where the line's plane is an extrapolation whose tilt
@@ -84,7 +91,6 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
     // distance a 5 deg slope moves the seabed 4 cm, under half of min_rise.
     // Elsewhere there is no plane yet, and echoes wait as at a mission's start
     // (judge_early_echoes).
-    Eigen::Vector2d across = Eigen::Vector2d::UnitY();
     if (cfg_.seabed_across_lines) {
         // The line's direction: the long axis of the echoes within
         // cluster_radius of xy (the eigenvector of the smaller eigenvalue is
@@ -94,21 +100,20 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         Eigen::Matrix2d near_spread = Eigen::Matrix2d::Zero(), spread = Eigen::Matrix2d::Zero();
         Eigen::Vector2d near_sum = Eigen::Vector2d::Zero();
         int near = 0;
-        for (int i = 0; i < seabed_count_; ++i)
-            if (inDisc(i)) {
-                const Eigen::Vector2d d = seabed_[i].head<2>() - centre;
-                spread += d * d.transpose();
-                if ((seabed_[i].head<2>() - xy).squaredNorm() <= c2) {
-                    near_sum += seabed_[i].head<2>();
-                    ++near;
-                }
+        for (const int* i = begin; i != end; ++i) {
+            const Eigen::Vector2d dc = seabed_[*i].head<2>() - d.centre;
+            spread += dc * dc.transpose();
+            if ((seabed_[*i].head<2>() - xy).squaredNorm() <= c2) {
+                near_sum += seabed_[*i].head<2>();
+                ++near;
             }
+        }
         if (near >= 3) {
             const Eigen::Vector2d near_centre = near_sum / near;
-            for (int i = 0; i < seabed_count_; ++i)
-                if (inDisc(i) && (seabed_[i].head<2>() - xy).squaredNorm() <= c2) {
-                    const Eigen::Vector2d d = seabed_[i].head<2>() - near_centre;
-                    near_spread += d * d.transpose();
+            for (const int* i = begin; i != end; ++i)
+                if ((seabed_[*i].head<2>() - xy).squaredNorm() <= c2) {
+                    const Eigen::Vector2d dn = seabed_[*i].head<2>() - near_centre;
+                    near_spread += dn * dn.transpose();
                 }
         }
         // Near echoes that do not lie along a line (a sweep zig-zagging
@@ -116,14 +121,25 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         // of its direction: then the whole disc's axis.
         const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> local(near_spread);
         const bool along_a_line = near >= 3 && local.eigenvalues()(0) < 0.25 * local.eigenvalues()(1);
-        across = along_a_line ? Eigen::Vector2d(local.eigenvectors().col(0))
-                              : Eigen::Vector2d(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(spread).eigenvectors().col(0));
-        const double u_xy = across.dot(xy - centre);
+        d.across = along_a_line
+                       ? Eigen::Vector2d(local.eigenvectors().col(0))
+                       : Eigen::Vector2d(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(spread).eigenvectors().col(0));
+        const double u_xy = d.across.dot(xy - d.centre);
         int beside = 0;
-        for (int i = 0; i < seabed_count_; ++i)
-            if (inDisc(i)) beside += std::fabs(across.dot(seabed_[i].head<2>() - centre) - u_xy) <= cfg_.cluster_radius;
+        for (const int* i = begin; i != end; ++i)
+            beside += std::fabs(d.across.dot(seabed_[*i].head<2>() - d.centre) - u_xy) <= cfg_.cluster_radius;
         if (beside < std::max(3, cfg_.min_seabed_echoes / 4)) return std::nullopt;
     }
+    return d;
+}
+
+std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) const {
+    const bool lower = trim == Trim::LowerEnvelope;
+    const int* const begin = disc_.data();
+    const int* const end = begin + disc.m;
+    const Eigen::Vector2d& centre = disc.centre;
+    const Eigen::Vector2d& across = disc.across;
+    const double depth0 = disc.depth0;
     // LowerEnvelope starts from the echoes no shallower than their median
     // about a plane level along the track (a level cut, which a plane tilted
     // onto an object on one side cannot fool: a first pass, seabed behind,
@@ -134,18 +150,17 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
     double median_residual = 0.0, tilt = 0.0;
     if (lower) {
         if (cfg_.seabed_across_lines) {
-            double suu = 1e-3 * m, suz = 0.0;  // the plane fits' ridge: (3 cm)^2 per echo
-            for (int i = 0; i < seabed_count_; ++i)
-                if (inDisc(i)) {
-                    const double u = across.dot(seabed_[i].head<2>() - centre);
-                    suu += u * u;
-                    suz += u * (seabed_[i].z() - depth0);
-                }
+            double suu = 1e-3 * disc.m, suz = 0.0;  // the plane fits' ridge: (3 cm)^2 per echo
+            for (const int* i = begin; i != end; ++i) {
+                const double u = across.dot(seabed_[*i].head<2>() - centre);
+                suu += u * u;
+                suz += u * (seabed_[*i].z() - depth0);
+            }
             tilt = suz / suu;
         }
         int k = 0;
-        for (int i = 0; i < seabed_count_; ++i)
-            if (inDisc(i)) residual_[k++] = seabed_[i].z() - depth0 - tilt * across.dot(seabed_[i].head<2>() - centre);
+        for (const int* i = begin; i != end; ++i)
+            residual_[k++] = seabed_[*i].z() - depth0 - tilt * across.dot(seabed_[*i].head<2>() - centre);
         median_residual = medianInPlace(residual_, static_cast<std::size_t>(k));
     }
     SeabedFit f;
@@ -157,7 +172,7 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
     // back its two-sided scatter; its first passes, which trim from the plane
     // through every echo, are what object echoes taken before any plane lift.
     if (!lower && cfg_.rise_from_lower_envelope) {
-        if (std::optional<SeabedFit> start = fit(xy, Trim::LowerEnvelope)) {
+        if (std::optional<SeabedFit> start = fitDisc(disc, Trim::LowerEnvelope)) {
             f = *start;
             first_pass = passes - 1;
         }
@@ -167,11 +182,9 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         // A scatter under a millimetre is rounding, not the seabed's: echoes
         // exactly on a plane must all stay in the trim's window.
         const double scatter = std::max(prev.rms, 1e-3);
-        auto use = [&](int i) {
-            if (seabed_state_[i] == EchoState::RisenLater) return false;
-            const Eigen::Vector3d& p = seabed_[i];
-            if ((p.head<2>() - xy).squaredNorm() > r2) return false;
+        auto use = [&](int i) {  // i: a slot in the disc
             if (pass == 0) return true;
+            const Eigen::Vector3d& p = seabed_[i];
             const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
             if (lower) {
                 if (pass == 1)
@@ -184,10 +197,10 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         Eigen::Vector2d sum_xy = Eigen::Vector2d::Zero();
         double sum_z = 0.0;
         int n = 0;
-        for (int i = 0; i < seabed_count_; ++i)
-            if (use(i)) {
-                sum_xy += seabed_[i].head<2>();
-                sum_z += seabed_[i].z();
+        for (const int* i = begin; i != end; ++i)
+            if (use(*i)) {
+                sum_xy += seabed_[*i].head<2>();
+                sum_z += seabed_[*i].z();
                 ++n;
             }
         if (lower && pass > 0) {
@@ -202,11 +215,11 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         const double zc = sum_z / n;
         Eigen::Matrix2d a = Eigen::Matrix2d::Identity() * (1e-3 * n);  // ridge: (3 cm)^2 per echo
         Eigen::Vector2d b = Eigen::Vector2d::Zero();
-        for (int i = 0; i < seabed_count_; ++i)
-            if (use(i)) {
-                const Eigen::Vector2d d = seabed_[i].head<2>() - c;
+        for (const int* i = begin; i != end; ++i)
+            if (use(*i)) {
+                const Eigen::Vector2d d = seabed_[*i].head<2>() - c;
                 a += d * d.transpose();
-                b += d * (seabed_[i].z() - zc);
+                b += d * (seabed_[*i].z() - zc);
             }
         f.centre = c;
         f.depth = zc;
@@ -215,8 +228,8 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
         // Robust scatter of the echoes in this fit about it (not about their
         // median: the plane is the model, its residuals' centre is zero).
         std::size_t m = 0;
-        for (int i = 0; i < seabed_count_; ++i)
-            if (use(i)) residual_[m++] = seabed_[i].z() - f.depthAt(seabed_[i].head<2>());
+        for (const int* i = begin; i != end; ++i)
+            if (use(*i)) residual_[m++] = seabed_[*i].z() - f.depthAt(seabed_[*i].head<2>());
         f.rms = robustSigmaInPlace(residual_, m, 0.0);
     }
     return f;

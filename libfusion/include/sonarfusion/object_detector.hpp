@@ -80,6 +80,17 @@ private:
     // a quarter of min_seabed_echoes are left).
     enum class Trim { Rise, LowerEnvelope };
     [[nodiscard]] std::optional<SeabedFit> fit(const Eigen::Vector2d& xy, Trim trim) const;
+    // The seabed echoes within seabed_radius of xy (slots in disc_), their
+    // mean position and depth, and the axis across their line; what a Rise
+    // fit and the LowerEnvelope fit it starts from share, computed once.
+    struct Disc {
+        int m = 0;
+        Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+        double depth0 = 0.0;
+        Eigen::Vector2d across = Eigen::Vector2d::UnitY();
+    };
+    [[nodiscard]] std::optional<Disc> discAt(const Eigen::Vector2d& xy) const;
+    [[nodiscard]] std::optional<SeabedFit> fitDisc(const Disc& disc, Trim trim) const;
     // What a seabed-ring echo is: judged seabed; taken before any plane existed
     // where it lies (not yet judged); or found risen when judged later (then
     // kept out of every fit, as risen echoes are).
@@ -97,6 +108,7 @@ private:
     std::vector<Eigen::Vector3d> seabed_;  // ring of seabed echoes
     std::vector<EchoState> seabed_state_;  // per slot of seabed_
     mutable std::vector<double> residual_; // scratch for the median absolute residual
+    mutable std::vector<int> disc_;        // scratch: the slots discAt found
     int seabed_count_ = 0, seabed_next_ = 0;
     std::vector<Eigen::Vector3d> risen_;   // ring of risen echoes
     int risen_count_ = 0, risen_next_ = 0;
