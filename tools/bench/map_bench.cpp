@@ -459,7 +459,7 @@ int main(int argc, char** argv) {
     std::printf("OctoMap clamping: %.9g .. %.9g log-odds (ours %.9g .. %.9g)\n", key_tree->getClampingThresMinLog(),
                 key_tree->getClampingThresMaxLog(), map.clampMin(), map.clampMax());
 
-    Row voxelmap{"voxelmap_stream", "(a) VoxelMap::add + setFlag, recorded stream", p.updates};
+    Row voxelmap{"voxelmap_stream", "(a) VoxelMap::add + setFlag (MapWriterSink), recorded stream", p.updates};
     Row octo{"octomap_stream", "(b) OcTree::updateNode(key, same log-odds)", p.updates};
     Row floor_row{"memory_floor", "(c) float array += at the same indices, no math", p.updates};
     Row pipeline{"voxelmap_pipeline", "FlsUpdater::apply + PsCarver::apply (geometry + walk)", p.updates};

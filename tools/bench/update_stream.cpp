@@ -13,6 +13,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "sonarfusion/update_sink.hpp"
 #include "sonarfusion/voxel_walk.hpp"
 
 namespace sfbench {
@@ -144,16 +145,13 @@ private:
 }  // namespace
 
 void replayStream(const UpdateStream& stream, std::size_t count, VoxelMap& map) {
-    // VoxelMap::Writer, as FlsUpdater and PsCarver use it: the flag store is a
-    // char store, which may alias anything, so the writer keeps the map's data
-    // pointers and clamp bounds in locals.
+    // Through the Mapper's own sink (MapWriterSink: VoxelMap::Writer, whose
+    // locals keep the map's data pointers and clamp bounds out of the flag
+    // store's aliasing; a flag of 0, the FLS's free space, is not stored).
     const VoxelUpdate* u = stream.updates.data();
     const uint8_t* flag = stream.update_flag.data();
-    VoxelMap::Writer out = map.writer();
-    for (std::size_t i = 0; i < count; ++i) {
-        out.add(u[i].voxel, u[i].delta);
-        out.setFlag(u[i].voxel, flag[i]);
-    }
+    MapWriterSink sink(map);
+    for (std::size_t i = 0; i < count; ++i) sink.add(u[i].voxel, u[i].delta, flag[i]);
 }
 
 Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
