@@ -114,6 +114,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("min_risen_echoes", m.detector.min_risen_echoes);
     det.read("risen_capacity", m.detector.risen_capacity);
     det.read("rise_from_lower_envelope", m.detector.rise_from_lower_envelope);
+    det.read("rise_trim_converges", m.detector.rise_trim_converges);
     det.read("judge_early_echoes", m.detector.judge_early_echoes);
     det.read("seabed_across_lines", m.detector.seabed_across_lines);
     det.read("nearest_echo_sigmas", m.detector.nearest_echo_sigmas);

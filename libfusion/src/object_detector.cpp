@@ -177,7 +177,15 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
             first_pass = passes - 1;
         }
     }
-    for (int pass = first_pass; pass < passes; ++pass) {
+    // DetectorConfig::rise_trim_converges: the rise trim's last window (the
+    // echoes within 3 scatters of the plane, either side) repeats until it
+    // keeps the same echoes. Each earlier cut (the median, the lower half, one
+    // side) keeps echoes by their depth, which flattens the plane's slope and
+    // narrows its scatter; one window about that plane does not undo it.
+    const int last_stage = passes - 1;
+    const int max_passes = (!lower && cfg_.rise_trim_converges) ? passes + kMaxExtraWindows : passes;
+    for (int stage_pass = first_pass; stage_pass < max_passes; ++stage_pass) {
+        const int pass = std::min(stage_pass, last_stage);
         const SeabedFit prev = f;
         // A scatter under a millimetre is rounding, not the seabed's: echoes
         // exactly on a plane must all stay in the trim's window.
@@ -231,6 +239,10 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
         for (const int* i = begin; i != end; ++i)
             if (use(*i)) residual_[m++] = seabed_[*i].z() - f.depthAt(seabed_[*i].head<2>());
         f.rms = robustSigmaInPlace(residual_, m, 0.0);
+        // The same echoes give the same plane: a window that changed nothing is the fixed point.
+        if (stage_pass > last_stage && f.echoes == prev.echoes && f.depth == prev.depth &&
+            f.gradient == prev.gradient && f.rms == prev.rms)
+            break;
     }
     return f;
 }

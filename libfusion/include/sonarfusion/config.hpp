@@ -246,6 +246,12 @@ struct DetectorConfig {
     // echoes taken as seabed before any plane existed (a PS whose first sweeps
     // fall on the object) do not lift it. False: from all the echoes (paper).
     bool rise_from_lower_envelope = true;
+    // The rise trim's last window (the echoes within 3 scatters of the plane,
+    // either side) repeats until it keeps the same echoes (at most 16 more
+    // times). The cuts before it keep echoes by their depth, which flattens
+    // the plane's slope and narrows its scatter on a rough seabed sloping
+    // along the track. False: one window, as before.
+    bool rise_trim_converges = true;
     // The PS places its echoes on the track line, so a line flown beside an
     // earlier one lies across from all of that line's echoes. With this on, a
     // seabed plane judges only where some of its echoes lie within

@@ -79,6 +79,8 @@ private:
     // them, then three times those within 3 scatters; nothing when fewer than
     // a quarter of min_seabed_echoes are left).
     enum class Trim { Rise, LowerEnvelope };
+    // DetectorConfig::rise_trim_converges: at most this many more windows.
+    static constexpr int kMaxExtraWindows = 16;
     [[nodiscard]] std::optional<SeabedFit> fit(const Eigen::Vector2d& xy, Trim trim) const;
     // The seabed echoes within seabed_radius of xy (slots in disc_), their
     // mean position and depth, and the axis across their line; what a Rise
