@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "config_yaml.hpp"
+#include "sonarfusion/pose.hpp"
 
 namespace sonarfusion::sim {
 
@@ -92,6 +93,14 @@ void readScene(const YAML::Node& node, const fs::path& base_dir, Scenario& s) {
         const std::string role = m.require<std::string>("role");
         spec.impedance = m.get("impedance", role == "seabed" ? 3.0 : 8.0);
         m.read("face_angle_deg", spec.face_angle_deg);
+        m.read("scale", spec.scale);
+        const auto triple = [&](const std::string& key, std::array<double, 3>& out, double unit) {
+            const auto v = m.get<std::vector<double>>(key, {out[0], out[1], out[2]});
+            if (v.size() != 3) throw config_yaml::KeyError(path + "." + key, "must be a list of three numbers");
+            for (int k = 0; k < 3; ++k) out[k] = v[k] * unit;
+        };
+        triple("position", spec.position, 1.0);
+        triple("rpy_deg", spec.rotation, kDegToRad);
         m.rejectUnknownKeys();
         if (role == "seabed")
             spec.role = MeshRole::Seabed;
@@ -234,7 +243,25 @@ Scenario parseNamingTheField(const YAML::Node& root, const fs::path& base_dir) {
 Check MeshSpec::validate() const {
     if (!(impedance > 0.0) || !std::isfinite(impedance)) return bad("impedance", "must be > 0");
     if (!std::isfinite(face_angle_deg)) return bad("face_angle_deg", "must be a finite number");
+    // Zero or negative would collapse or mirror the mesh (turning its normals inward).
+    if (!(scale > 0.0) || !std::isfinite(scale)) return bad("scale", "must be a number > 0");
+    for (double v : position)
+        if (!std::isfinite(v)) return bad("position", "must be three finite numbers");
+    for (double v : rotation)
+        if (!std::isfinite(v)) return bad("rpy_deg", "must be three finite numbers");
     return std::nullopt;
+}
+
+Eigen::Isometry3d MeshSpec::pose() const {
+    Pose p;
+    p.position = Eigen::Vector3d(position[0], position[1], position[2]);
+    p.roll = rotation[0];
+    p.pitch = rotation[1];
+    p.yaw = rotation[2];
+    Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+    out.linear() = p.rotation();
+    out.translation() = p.position;
+    return out;
 }
 
 Check SceneSpec::validate() const {

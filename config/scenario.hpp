@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "sonarfusion/config.hpp"
 
 namespace sonarfusion::sim {
@@ -36,6 +38,13 @@ struct MeshSpec {
     MeshRole role = MeshRole::Object;
     double impedance = 8.0;     // MRayl (acoustic impedance Z of the material)
     double face_angle_deg = 0;  // true end-face angle alpha of an object, 0 when not given
+    // Where the file's vertices go (docs/scenario-format.md): world =
+    // position + R(roll, pitch, yaw) * (scale * vertex), R as a vehicle's
+    // attitude (Pose::rotation, Z-Y-X). The defaults leave the file as it is.
+    double scale = 1.0;                          // file units to metres
+    std::array<double, 3> position{0, 0, 0};     // m, NED world
+    std::array<double, 3> rotation{0, 0, 0};     // rad: roll, pitch, yaw (rpy_deg in the file)
+    [[nodiscard]] Eigen::Isometry3d pose() const;  // the rotation, then the translation
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `scene.meshes[i]` block
 };
 

@@ -34,8 +34,8 @@ std::string lowerExtension(const std::string& path) {
 
 TriangleMesh loadMesh(const std::string& path) {
     const std::string ext = lowerExtension(path);
-    if (ext != ".obj" && ext != ".off" && ext != ".ply")
-        fail(path, "unknown mesh format '" + ext + "' (use .obj, .off or .ply)");
+    if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
+        fail(path, "unknown mesh format '" + ext + "' (use .obj, .off, .ply or .stl)");
     if (!std::ifstream(path, std::ios::binary)) fail(path, "cannot open");
     std::vector<Kernel::Point_3> points;
     std::vector<std::vector<std::size_t>> polygons;
@@ -56,6 +56,17 @@ TriangleMesh loadMesh(const std::string& path) {
     }
     if (m.triangles.empty()) fail(path, "no triangles");
     return m;
+}
+
+TriangleMesh loadMesh(const MeshSource& source) {
+    TriangleMesh m = loadMesh(source.path);
+    applyPlacement(m, source.placement);
+    return m;
+}
+
+void applyPlacement(TriangleMesh& mesh, const Placement& placement) {
+    if (placement.scale == 1.0 && placement.pose.matrix() == Eigen::Matrix4d::Identity()) return;
+    for (auto& v : mesh.vertices) v = placement.pose * (placement.scale * v);
 }
 
 void saveObj(const TriangleMesh& mesh, const std::string& path) {

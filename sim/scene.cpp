@@ -9,7 +9,7 @@ namespace sonarfusion::sim {
 Scene::Scene(const SceneSpec& spec) {
     std::vector<TriangleMesh> meshes;
     meshes.reserve(spec.meshes.size());
-    for (const MeshSpec& m : spec.meshes) meshes.push_back(loadMesh(m.path));
+    for (const MeshSpec& m : spec.meshes) meshes.push_back(loadMesh(MeshSource{m.path, {m.scale, m.pose()}}));
     build(meshes, spec.meshes, spec.water_impedance, "");
 }
 

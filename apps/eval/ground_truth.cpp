@@ -27,8 +27,8 @@ VoxelMask markVisibleVoxels(const GridSpec& grid, const VoxelMask& surface, cons
     return out;
 }
 
-SceneTruth makeSceneTruth(const std::string& name, const std::vector<std::string>& object_meshes,
-                          const std::vector<std::string>& seabed_meshes, const std::vector<SensorRun>& runs,
+SceneTruth makeSceneTruth(const std::string& name, const std::vector<mesh::MeshSource>& object_meshes,
+                          const std::vector<mesh::MeshSource>& seabed_meshes, const std::vector<SensorRun>& runs,
                           const Eigen::Vector3d& along_track, const VisibilityOptions& options) {
     SceneTruth scene;
     scene.name = name;

@@ -38,8 +38,8 @@ struct GroundTruth {
 
 // Loads the meshes and computes the visible object surface (the slow part,
 // done once per scenario). Occluders are the objects and the seabed.
-[[nodiscard]] SceneTruth makeSceneTruth(const std::string& name, const std::vector<std::string>& object_meshes,
-                                        const std::vector<std::string>& seabed_meshes,
+[[nodiscard]] SceneTruth makeSceneTruth(const std::string& name, const std::vector<mesh::MeshSource>& object_meshes,
+                                        const std::vector<mesh::MeshSource>& seabed_meshes,
                                         const std::vector<SensorRun>& runs, const Eigen::Vector3d& along_track,
                                         const VisibilityOptions& options = {});
 

@@ -1,6 +1,6 @@
 // The evaluator's triangle mesh is the project's one mesh type, read by the
-// project's one reader (sim/mesh_io.hpp, library sf_mesh_io: CGAL's OBJ, OFF
-// and PLY readers). The evaluator's modules build their CGAL structures from
+// project's one reader (sim/mesh_io.hpp, library sf_mesh_io: CGAL's OBJ, OFF,
+// PLY and STL readers), placed where the scenario puts it. The evaluator's modules build their CGAL structures from
 // it inside their .cpp files only.
 #pragma once
 
@@ -8,6 +8,8 @@
 
 namespace sonarfusion::eval {
 using mesh::loadMesh;
+using mesh::MeshSource;
+using mesh::Placement;
 using mesh::meshBounds;
 using mesh::TriangleMesh;
 }  // namespace sonarfusion::eval

@@ -15,8 +15,9 @@ EvalScenario loadEvalScenario(const std::string& path) {
     const sim::Scenario s = sim::loadScenario(path);
     EvalScenario out;
     out.name = s.name;
-    out.object_meshes = s.meshPaths(sim::MeshRole::Object);
-    out.seabed_meshes = s.meshPaths(sim::MeshRole::Seabed);
+    for (const sim::MeshSpec& m : s.scene.meshes)
+        (m.role == sim::MeshRole::Object ? out.object_meshes : out.seabed_meshes)
+            .push_back(mesh::MeshSource{m.path, {m.scale, m.pose()}});
     if (s.trueFaceAngleDeg() > 0.0) out.declared_face_angle_deg = s.trueFaceAngleDeg();
     if (!s.trajectory.passes.empty()) {
         const double h = s.trajectory.passes.front().heading;

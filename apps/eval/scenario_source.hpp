@@ -8,13 +8,14 @@
 #include <string>
 #include <vector>
 
+#include "mesh.hpp"
 #include "visibility.hpp"
 
 namespace sonarfusion::eval {
 
 struct EvalScenario {
     std::string name;
-    std::vector<std::string> object_meshes, seabed_meshes;
+    std::vector<mesh::MeshSource> object_meshes, seabed_meshes;  // files and where the scenario places them
     std::vector<SensorRun> runs;  // "fls" (frames only), "ps" (every sequence), from the TRUE poses
     Eigen::Vector3d along_track = Eigen::Vector3d::UnitX();  // heading of the first pass
     // Axial mean of the vehicle headings of every sequence (one NAV each), as

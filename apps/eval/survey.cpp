@@ -82,12 +82,12 @@ std::string cell(const std::optional<double>& v, int precision) {
 
 // ---------------------------------------------------------------- truth
 
-SurveyTruth makeSurveyTruth(const std::vector<std::string>& object_meshes, const std::vector<std::string>& seabed_meshes,
+SurveyTruth makeSurveyTruth(const std::vector<mesh::MeshSource>& object_meshes, const std::vector<mesh::MeshSource>& seabed_meshes,
                             const std::vector<SensorRun>& runs, const VisibilityOptions& options) {
     std::vector<SurveyTrueObject> objects;
     for (const auto& p : object_meshes) {
         SurveyTrueObject o;
-        o.name = fs::path(p).stem().string();
+        o.name = fs::path(p.path).stem().string();
         o.mesh = loadMesh(p);
         objects.push_back(std::move(o));
     }
@@ -513,7 +513,7 @@ std::vector<std::string> writeSurveyPointClouds(const std::string& dir, const st
 }
 
 std::vector<std::string> writeSurveyFigures(const std::string& dir, const std::string& scenario,
-                                            const SurveyTruth& truth, const std::vector<std::string>& seabed_meshes,
+                                            const SurveyTruth& truth, const std::vector<mesh::MeshSource>& seabed_meshes,
                                             const std::vector<SurveyMap>& maps, double occupied_probability) {
     std::vector<TriangleMesh> seabed;
     for (const auto& p : seabed_meshes) seabed.push_back(loadMesh(p));

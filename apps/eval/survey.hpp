@@ -79,8 +79,8 @@ struct SurveyTruth {
     std::vector<std::string> run_names;
 };
 
-[[nodiscard]] SurveyTruth makeSurveyTruth(const std::vector<std::string>& object_meshes,
-                                          const std::vector<std::string>& seabed_meshes,
+[[nodiscard]] SurveyTruth makeSurveyTruth(const std::vector<mesh::MeshSource>& object_meshes,
+                                          const std::vector<mesh::MeshSource>& seabed_meshes,
                                           const std::vector<SensorRun>& runs, const VisibilityOptions& options = {});
 // The same from meshes already loaded (tests).
 [[nodiscard]] SurveyTruth makeSurveyTruth(std::vector<SurveyTrueObject> objects, const std::vector<TriangleMesh>& seabed,
@@ -154,7 +154,7 @@ std::vector<std::string> writeSurveyPointClouds(const std::string& dir, const st
 // published objects' voxels), windowed on the true objects in that map's grid (the whole map when
 // none), their outlines red, the seabed cropped to the map grey. Returns the paths.
 std::vector<std::string> writeSurveyFigures(const std::string& dir, const std::string& scenario,
-                                            const SurveyTruth& truth, const std::vector<std::string>& seabed_meshes,
+                                            const SurveyTruth& truth, const std::vector<mesh::MeshSource>& seabed_meshes,
                                             const std::vector<SurveyMap>& maps, double occupied_probability);
 // The per-object table printed on stdout.
 [[nodiscard]] std::string surveyTable(const SurveyScore& score);

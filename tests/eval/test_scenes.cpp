@@ -92,6 +92,31 @@ TEST(MultiPart, TwoObjectMeshesInOneScene) {
     EXPECT_FALSE(gt.visible[kGrid.linear(7, 7, 19)]);  // on the seabed
 }
 
+// A mesh from another project, modelled in millimetres about its own origin
+// with y up, placed by the scenario (mesh::Placement: scale, rotation,
+// translation): the same truth as the same box written in the world's metres.
+TEST(MultiPart, PlacedMeshGivesTheSameTruthAsTheMeshInPlace) {
+    // 0.5 (along) x 0.3 (up) x 0.4 (across) m, bottom on the seabed at 20 m.
+    const std::string in_place = test::writeBox("in_place", {0.5, 0.5, 19.7}, {1.0, 0.9, 20.0});
+    const std::string mm_y_up = test::writeBox("mm_y_up", {-250, -150, -200}, {250, 150, 200});
+    Placement where;
+    where.scale = 0.001;
+    // Roll -90 deg: the file's +y (up) becomes NED -z, its +z becomes +y.
+    where.pose.linear() = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    where.pose.translation() = Eigen::Vector3d(0.75, 0.7, 19.85);
+    const std::string seabed =
+        test::writeOff("placed_seabed", {{-5, -5, 20.0}, {9, -5, 20.0}, {9, 9, 20.0}, {-5, 9, 20.0}}, {{0, 1, 2, 3}});
+    const SensorRun above{"all", {-M_PI, M_PI, -M_PI / 2, M_PI / 2, 0.0, 100.0},
+                          {{Eigen::Vector3d(0.75, 0.7, 17.0), Eigen::Matrix3d::Identity()}}};
+    const SceneTruth a = makeSceneTruth("a", {in_place}, {seabed}, {above}, Eigen::Vector3d::UnitX());
+    const SceneTruth b =
+        makeSceneTruth("b", {MeshSource{mm_y_up, where}}, {seabed}, {above}, Eigen::Vector3d::UnitX());
+    const GroundTruth ga = groundTruthInGrid(a, kGrid), gb = groundTruthInGrid(b, kGrid);
+    EXPECT_EQ(countSet(ga.object.solid), 5u * 4u * 3u);
+    EXPECT_EQ(ga.object.solid, gb.object.solid);
+    EXPECT_EQ(ga.visible, gb.visible);
+}
+
 // Bare seabed: no true object, every predicted voxel is false.
 TEST(ObjectFree, MetricsAreNullButFalseVolumeAndObjectCount) {
     const std::string seabed =

@@ -98,6 +98,40 @@ TEST_F(ScenarioTest, MissingMeshNamesTheField) {
     EXPECT_EQ(errorField(t.yaml()), "scene.meshes[1].file");
 }
 
+// A mesh from another project goes where the scenario says: scale (file
+// units to metres), then rpy_deg as a vehicle's attitude (Z-Y-X), then position.
+TEST_F(ScenarioTest, MeshPlacementIsReadAndChecked) {
+    TinyScenario t = tiny();
+    t.meshes = "- {file: plane.obj, role: seabed}\n"
+               "- {file: plane.obj, role: object, scale: 0.001, position: [1, -2, 19.5], rpy_deg: [180, 0, 90]}\n";
+    const Scenario s = load(t.yaml());
+    ASSERT_EQ(s.scene.meshes.size(), 2u);
+    const MeshSpec& bed = s.scene.meshes[0];
+    EXPECT_EQ(bed.scale, 1.0);
+    EXPECT_TRUE(bed.pose().matrix() == Eigen::Matrix4d::Identity());  // the defaults leave the file as it is
+    const MeshSpec& m = s.scene.meshes[1];
+    EXPECT_DOUBLE_EQ(m.scale, 0.001);
+    const Eigen::Isometry3d pose = m.pose();
+    EXPECT_LT((pose.translation() - Eigen::Vector3d(1, -2, 19.5)).norm(), 1e-12);
+    // Roll 180 deg (a z-up file upside down in NED, z down), then yaw 90 deg.
+    EXPECT_LT((pose.linear() * Eigen::Vector3d::UnitZ() + Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+    EXPECT_LT((pose.linear() * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 1e-12);
+    EXPECT_LT((pose.linear() * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
+
+    const std::string bad_cases[][2] = {
+        {"scale: 0", "scene.meshes[0].scale"},
+        {"scale: -1", "scene.meshes[0].scale"},
+        {"position: [1, 2]", "scene.meshes[0].position"},
+        {"rpy_deg: [0, 0, 0, 0]", "scene.meshes[0].rpy_deg"},
+        {"rpy_deg: [0, .nan, 0]", "scene.meshes[0].rpy_deg"},
+        {"position: [1, 2, .inf]", "scene.meshes[0].position"},
+    };
+    for (const auto& c : bad_cases) {
+        t.meshes = "- {file: plane.obj, role: seabed, " + c[0] + "}\n";
+        EXPECT_EQ(errorField(t.yaml()), c[1]) << c[0];
+    }
+}
+
 TEST_F(ScenarioTest, UnknownKeyNamesTheField) {
     TinyScenario t = tiny();
     t.extra = "fls: {range_maxx: 12}\n";
