@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 namespace sonarfusion::eval {
@@ -34,8 +35,40 @@ Point toPoint(const Eigen::Vector3d& v) { return Point(v.x(), v.y(), v.z()); }
 //    each row (cell centres), so the count follows the area.
 constexpr double kMaxOversampling = 4.0;
 
+// Indices k in [0, count) whose points base + (k + offset) * step lie in
+// `box`, widened by one index each side (the caller tests each point itself):
+// a row of samples crossing the box's edge costs only the part inside it.
+void rowInBox(const Eigen::Vector3d& base, const Eigen::Vector3d& step, double offset, int count,
+              const Eigen::AlignedBox3d& box, int& first, int& last) {
+    double lo = -1e300, hi = 1e300;
+    for (int a = 0; a < 3; ++a) {
+        if (step[a] == 0.0) {
+            if (base[a] < box.min()[a] || base[a] > box.max()[a]) lo = 1.0, hi = 0.0;
+            continue;
+        }
+        const double t0 = (box.min()[a] - base[a]) / step[a] - offset, t1 = (box.max()[a] - base[a]) / step[a] - offset;
+        lo = std::max(lo, std::min(t0, t1));
+        hi = std::min(hi, std::max(t0, t1));
+    }
+    if (!(lo <= hi)) {
+        first = 0, last = -1;
+        return;
+    }
+    first = static_cast<int>(std::max(0.0, std::floor(lo) - 1.0));
+    last = static_cast<int>(std::min(static_cast<double>(count - 1), std::ceil(hi) + 1.0));
+}
+
+// `reach`: samples outside it are not made (no pose is within range of them).
+// A triangle wholly inside is sampled as it always was, sample for sample.
 void sampleTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, double spacing,
-                    std::vector<SurfaceSample>& out) {
+                    const Eigen::AlignedBox3d& reach, std::vector<SurfaceSample>& out) {
+    Eigen::AlignedBox3d bounds(a);
+    bounds.extend(b).extend(c);
+    if (!reach.intersects(bounds)) return;
+    const bool clipped = !reach.contains(bounds);
+    const auto keep = [&](const Eigen::Vector3d& p) {
+        if (!clipped || reach.contains(p)) out.push_back({p, 0});
+    };
     const double ab = (b - a).norm(), bc = (c - b).norm(), ca = (a - c).norm();
     const double longest = std::max({ab, bc, ca});
     const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
@@ -43,11 +76,22 @@ void sampleTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
     const double equilateral = std::sqrt(3.0) / 4.0 * spacing * spacing;
     if (static_cast<double>(n) * n <= kMaxOversampling * std::max(1.0, area / equilateral)) {
         const Eigen::Vector3d u = (b - a) / n, v = (c - a) / n;
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; i + j < n; ++j) {
-                out.push_back({a + (i + 1.0 / 3.0) * u + (j + 1.0 / 3.0) * v, 0});
-                if (i + j < n - 1) out.push_back({a + (i + 2.0 / 3.0) * u + (j + 2.0 / 3.0) * v, 0});
+        for (int i = 0; i < n; ++i) {
+            int first = 0, last = n - i - 1;
+            if (clipped) {  // the row's two kinds of sample, each on its own line
+                int first2 = 0, last2 = -1;
+                rowInBox(a + (i + 1.0 / 3.0) * u, v, 1.0 / 3.0, n - i, reach, first, last);
+                rowInBox(a + (i + 2.0 / 3.0) * u, v, 2.0 / 3.0, n - i, reach, first2, last2);
+                if (first2 <= last2) {
+                    first = first <= last ? std::min(first, first2) : first2;
+                    last = std::max(last, last2);
+                }
             }
+            for (int j = first; j <= last; ++j) {
+                keep(a + (i + 1.0 / 3.0) * u + (j + 1.0 / 3.0) * v);
+                if (i + j < n - 1) keep(a + (i + 2.0 / 3.0) * u + (j + 2.0 / 3.0) * v);
+            }
+        }
         return;
     }
     // Sliver: p, q = the longest edge, r = the opposite vertex.
@@ -60,8 +104,30 @@ void sampleTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
         const double t = (j + 0.5) / rows;  // 0 on the longest edge, 1 at r
         const Eigen::Vector3d from = *p + t * (*r - *p), to = *q + t * (*r - *q);
         const int m = std::max(1, static_cast<int>(std::ceil((1.0 - t) * longest / spacing)));
-        for (int k = 0; k < m; ++k) out.push_back({from + (k + 0.5) / m * (to - from), 0});
+        int first = 0, last = m - 1;
+        if (clipped) rowInBox(from, (to - from) / m, 0.5, m, reach, first, last);
+        for (int k = first; k <= last; ++k) keep(from + (k + 0.5) / m * (to - from));
     }
+}
+
+// Where any run's sensor could see: the box around all its poses, widened by
+// its largest range. A surface sample outside it is out of range of every
+// pose, so it is never seen; not making it keeps a mesh far larger than the
+// survey (a wreck or pipeline seen in part, a mesh in millimetres left
+// unscaled) from needing its whole surface sampled.
+// With no pose at all nothing is seen; the whole surface is sampled then.
+Eigen::AlignedBox3d reachOf(const std::vector<SensorRun>& runs) {
+    Eigen::AlignedBox3d box;  // empty
+    for (const SensorRun& run : runs)
+        for (const SensorPose& pose : run.poses) {
+            const Eigen::Vector3d r = Eigen::Vector3d::Constant(std::max(0.0, run.fov.range_max));
+            box.extend(pose.position - r).extend(pose.position + r);
+        }
+    if (box.isEmpty()) {
+        const double inf = std::numeric_limits<double>::infinity();
+        return Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-inf), Eigen::Vector3d::Constant(inf));
+    }
+    return box;
 }
 
 std::vector<SensorPose> thinned(const std::vector<SensorPose>& poses, double spacing) {
@@ -218,9 +284,11 @@ std::vector<SurfaceSample> sampleVisibleSurface(const std::vector<TriangleMesh>&
     tree.build();
 
     std::vector<SurfaceSample> samples;
+    const Eigen::AlignedBox3d reach = reachOf(runs);
     for (const auto& m : targets)
         for (const auto& t : m.triangles)
-            sampleTriangle(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], options.sample_spacing, samples);
+            sampleTriangle(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], options.sample_spacing, reach,
+                           samples);
 
     std::vector<PreparedRun> prepared;
     for (std::size_t k = 0; k < runs.size() && k < 32; ++k)

@@ -85,6 +85,38 @@ TEST_F(BoxOnSeabed, OutOfRangeSeesNothing) {
     for (const auto& s : samples) EXPECT_EQ(s.seen_by, 0u);
 }
 
+// Only the surface within some pose's range is sampled: the same samples
+// seen, in the same order, as when every triangle is sampled whole, and a
+// mesh far larger than the survey costs only the part of it within reach.
+TEST_F(BoxOnSeabed, OnlyTheSurfaceWithinReachIsSampled) {
+    SensorRun near = omnidirectional({-3.0, 0.6, 18.0});
+    near.fov.range_max = 3.5;  // reaches x <= 0.5: the box (x 0..2) is cut
+    // A second run whose reach covers everything, so nothing is cut (its own bit is not compared).
+    SensorRun far = omnidirectional({3000.0, 0.0, 0.0});
+    far.fov.range_max = 4000.0;
+    const auto cut = sampleVisibleSurface({box_}, {box_, seabed_}, {near});
+    const auto whole = sampleVisibleSurface({box_}, {box_, seabed_}, {near, far});
+    EXPECT_LT(cut.size(), whole.size() / 2);
+    std::vector<Eigen::Vector3d> seen_cut, seen_whole;
+    for (const auto& s : cut)
+        if (s.seen_by & 1u) seen_cut.push_back(s.point);
+    for (const auto& s : whole)
+        if (s.seen_by & 1u) seen_whole.push_back(s.point);
+    EXPECT_GT(seen_cut.size(), 100u);
+    EXPECT_EQ(seen_cut, seen_whole);
+
+    // A 20 km square object (a mesh in millimetres left unscaled): about 6e11
+    // samples whole; within the 7 m reach, the part the run can see.
+    const TriangleMesh huge = loadMesh(test::writeOff(
+        "vis_huge", {{-1e4, -1e4, 19.5}, {1e4, -1e4, 19.5}, {1e4, 1e4, 19.5}, {-1e4, 1e4, 19.5}}, {{0, 1, 2, 3}}));
+    const auto samples = sampleVisibleSurface({huge}, {huge}, {near});
+    EXPECT_GT(samples.size(), 10000u);
+    EXPECT_LT(samples.size(), 1000000u);
+    std::size_t seen = 0;
+    for (const auto& s : samples) seen += s.seen_by != 0;
+    EXPECT_GT(seen, 10000u);
+}
+
 // Two passes in opposite directions see both end faces.
 TEST_F(BoxOnSeabed, TwoRunsBitsAndUnion) {
     const auto samples = sampleVisibleSurface({box_}, {box_, seabed_},
