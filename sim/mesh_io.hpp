@@ -1,8 +1,9 @@
 // The project's one triangle mesh and its one reader, shared by the simulator
 // (sf_scenario) and the evaluator (sf_eval). OBJ, OFF, PLY and STL (ascii or
-// binary) are read with CGAL's polygon-soup readers inside mesh_io.cpp, the
-// only translation unit of the library target sf_mesh_io; this header is free
-// of CGAL, so no simulator file includes it. Polygons are fan-triangulated.
+// binary) are read with CGAL's polygon-soup readers, Collada with assimp,
+// inside mesh_io.cpp, the only translation unit of the library target
+// sf_mesh_io; this header is free of both, so no simulator file includes
+// them. Polygons are fan-triangulated.
 // A scenario may place a file's mesh in its world (scale, then rotate, then
 // translate: Placement), so a mesh from another project is used as it is.
 #pragma once
@@ -38,8 +39,10 @@ struct MeshSource {
     MeshSource(std::string p, Placement where = {}) : path(std::move(p)), placement(where) {}  // NOLINT: a bare path is a mesh in place
 };
 
-// Picks the reader by extension (.obj, .off, .ply, .stl; case-insensitive;
-// STL ascii or binary, its repeated corners merged into shared vertices).
+// Picks the reader by extension (.obj, .off, .ply, .stl, .dae;
+// case-insensitive; STL ascii or binary, its repeated corners merged into
+// shared vertices; Collada: every mesh of the file's scene with its node
+// transforms, in metres by its <unit>, in the file's own axes).
 // Throws std::runtime_error "mesh PATH: ..." when the file cannot be opened or
 // read, has an unknown extension, a face with fewer than 3 vertices or an
 // index out of range, or no triangles.

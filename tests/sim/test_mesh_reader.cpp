@@ -1,5 +1,5 @@
 // The one mesh reader (sim/mesh_io.hpp, shared with sf-eval): OBJ face forms,
-// binary PLY, ascii and binary STL, placing a mesh, and malformed files
+// binary PLY, ascii and binary STL, Collada, placing a mesh, and malformed files
 // refused with a message naming the file.
 #include <gtest/gtest.h>
 
@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "mesh_io.hpp"
 #include "scenario.hpp"
@@ -202,6 +203,48 @@ TEST(MeshReader, SceneCastsOnThePlacedMesh) {
     placed.cast(Eigen::Vector3f(4.0f, 0.0f, 10.0f), &down, 1, 0.0f, 100.0f, &top);
     EXPECT_NEAR(top.range, 9.4f, 1e-4);  // the block's top, 0.6 m above the seabed
     EXPECT_EQ(top.mesh, 1u);
+}
+
+// Collada (Gazebo / DAVE models) through assimp: the file's <unit> applied, its
+// own axes kept (its Z_UP is not turned into y-up), every node's transform
+// applied, the parts gathered into one mesh.
+TEST(MeshReader, ColladaInMetresInItsOwnAxesWithNodeTransforms) {
+    test::TempDir dir;
+    const std::string geometry =
+        "<geometry id=\"tet\"><mesh><source id=\"p\"><float_array id=\"pa\" count=\"12\">0 0 0 100 0 0 0 200 0 0 0 "
+        "300</float_array><technique_common><accessor source=\"#pa\" count=\"4\" stride=\"3\"><param name=\"X\" "
+        "type=\"float\"/><param name=\"Y\" type=\"float\"/><param name=\"Z\" type=\"float\"/></accessor>"
+        "</technique_common></source><vertices id=\"v\"><input semantic=\"POSITION\" source=\"#p\"/></vertices>"
+        "<triangles count=\"4\"><input semantic=\"VERTEX\" source=\"#v\" offset=\"0\"/><p>0 2 1 0 1 3 0 3 2 1 2 3</p>"
+        "</triangles></mesh></geometry>";
+    test::writeText(dir.file("tet.dae"),
+                    "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<COLLADA "
+                    "xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n"
+                    "<asset><unit name=\"centimeter\" meter=\"0.01\"/><up_axis>Z_UP</up_axis></asset>\n"
+                    "<library_geometries>" + geometry + "</library_geometries>\n"
+                    "<library_visual_scenes><visual_scene id=\"s\">"
+                    "<node id=\"a\"><instance_geometry url=\"#tet\"/></node>"
+                    "<node id=\"b\"><matrix>1 0 0 500 0 1 0 0 0 0 1 0 0 0 0 1</matrix><instance_geometry url=\"#tet\"/></node>"
+                    "</visual_scene></library_visual_scenes>\n<scene><instance_visual_scene url=\"#s\"/></scene>\n</COLLADA>\n");
+    const TriangleMesh m = loadMesh(dir.file("tet.dae"));
+    ASSERT_EQ(m.triangles.size(), 8u);  // two tetrahedra
+    ASSERT_EQ(m.vertices.size(), 8u);
+    // Every corner of the file, in metres, at each node: (0,0,0) (1,0,0) (0,2,0) (0,0,3), and shifted 5 m in x.
+    std::vector<Eigen::Vector3d> expected;
+    for (double dx : {0.0, 5.0})
+        for (const Eigen::Vector3d& c : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 2, 0),
+                                         Eigen::Vector3d(0, 0, 3)})
+            expected.push_back(c + Eigen::Vector3d(dx, 0, 0));
+    for (const Eigen::Vector3d& e : expected) {
+        bool found = false;
+        for (const Eigen::Vector3d& v : m.vertices) found = found || (v - e).norm() < 1e-6;
+        EXPECT_TRUE(found) << e.transpose();
+    }
+    for (const auto& t : m.triangles)
+        for (uint32_t i : t) EXPECT_LT(i, m.vertices.size());
+    test::writeText(dir.file("broken.dae"), "<COLLADA><not closed");
+    EXPECT_NE(thrownMessage(dir.file("broken.dae")).find("broken.dae: cannot read"), std::string::npos)
+        << thrownMessage(dir.file("broken.dae"));
 }
 
 }  // namespace
