@@ -405,12 +405,6 @@ double Scenario::trueFaceAngleDeg() const {
     return 0.0;
 }
 
-std::vector<std::string> Scenario::meshPaths(MeshRole role) const {
-    std::vector<std::string> out;
-    for (const auto& m : scene.meshes)
-        if (m.role == role) out.push_back(m.path);
-    return out;
-}
 
 Scenario loadScenarioFromString(const std::string& yaml, const std::string& base_dir) {
     YAML::Node root;

@@ -184,7 +184,6 @@ struct Scenario {
 
     // The end-face angle of the first object mesh that declares one (deg), or 0.
     [[nodiscard]] double trueFaceAngleDeg() const;
-    [[nodiscard]] std::vector<std::string> meshPaths(MeshRole role) const;
     // NAV differs from the truth, or the vehicle moves off its planned attitude
     // and depth: the simulator then also publishes the truth (channels.nav_truth).
     [[nodiscard]] bool publishesTruth() const { return navigation.enabled() || motion.enabled(); }

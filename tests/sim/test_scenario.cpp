@@ -1,6 +1,7 @@
 // Scenario loading: the reference files, defaults, and errors that name the field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "scenario.hpp"
@@ -41,8 +42,12 @@ TEST_F(ScenarioTest, ReferenceScenariosLoadWithPaperParameters) {
         const Scenario s = loadScenario(std::string(SF_SOURCE_DIR) + "/scenarios/slope_box_" +
                                         std::to_string(alpha) + ".yaml");
         EXPECT_DOUBLE_EQ(s.trueFaceAngleDeg(), alpha);
-        ASSERT_EQ(s.meshPaths(MeshRole::Object).size(), 1u);
-        ASSERT_EQ(s.meshPaths(MeshRole::Seabed).size(), 1u);
+        const auto count = [&](MeshRole role) {
+            return std::count_if(s.scene.meshes.begin(), s.scene.meshes.end(),
+                                 [&](const MeshSpec& m) { return m.role == role; });
+        };
+        ASSERT_EQ(count(MeshRole::Object), 1);
+        ASSERT_EQ(count(MeshRole::Seabed), 1);
         EXPECT_EQ(s.fls.beams, 96);
         EXPECT_EQ(s.fls.rows, 512);
         EXPECT_NEAR(s.fls.tilt, 40.0 * kDegToRad, 1e-12);
