@@ -131,6 +131,29 @@ double runVoxelMapAddOnly(const UpdateStream& s, const Prefix& p, VoxelMap& map)
     return secondsSince(t);
 }
 
+// What-if (docs/performance.md, "One word per cell"): log-odds and flags in one
+// 8-byte cell {float log-odds; uint8 flags; 3 bytes of the counts}, so each
+// update is one 64-bit load and one 64-bit store instead of a float and a byte
+// store. Bit-exact against the recorded stream (checked after the runs).
+double runCell64(const UpdateStream& s, const Prefix& p, std::vector<uint64_t>& cells, float lo, float hi) {
+    std::fill(cells.begin(), cells.end(), uint64_t{0});
+    const sfbench::VoxelUpdate* u = s.updates.data();
+    const uint8_t* flag = s.update_flag.data();
+    uint64_t* c = cells.data();
+    const auto t = Clock::now();
+    for (std::size_t i = 0; i < p.updates; ++i) {
+        const uint64_t w = c[u[i].voxel];
+        const auto low = static_cast<uint32_t>(w);
+        float l;
+        std::memcpy(&l, &low, sizeof l);
+        l = std::min(std::max(l + u[i].delta, lo), hi);
+        uint32_t bits;
+        std::memcpy(&bits, &l, sizeof bits);
+        c[u[i].voxel] = (w & ~uint64_t{0xffffffffu}) | bits | (uint64_t{flag[i]} << 32);
+    }
+    return secondsSince(t);
+}
+
 double runOctomapStream(const UpdateStream& s, const Prefix& p, const std::vector<octomap::OcTreeKey>& keys,
                         octomap::OcTree& tree) {
     const auto t = Clock::now();
@@ -465,6 +488,8 @@ int main(int argc, char** argv) {
     Row pipeline{"voxelmap_pipeline", "FlsUpdater::apply + PsCarver::apply (geometry + walk)", p.updates};
     Row octo_user{"octomap_user", "OctoMap as users call it: coordToKey + computeRayKeys", p.updates};
     Row add_only{"diag_add_only", "diagnosis: VoxelMap::add without setFlag", p.updates};
+    Row cell64{"diag_cell64", "what-if: log-odds + flags in one 8-byte cell, one load + one store", p.updates};
+    std::vector<uint64_t> cell64_cells(enabled("diagnosis") ? map.size() : 0);
     Row fls_now{"diag_fls_updater", "FLS frames only: FlsUpdater::apply", p.fls_updates};
     Row ps_now{"diag_ps_carver", "PS pings only: PsCarver::apply", p.ps_updates};
     Row ps_table{"diag_ps_exp_table", "what-if: PsCarver with a tabulated exp (not bit-exact)", p.ps_updates};
@@ -482,6 +507,8 @@ int main(int argc, char** argv) {
             if (enabled("floor")) floor_row.best = std::min(floor_row.best, runFloor(s, p, floor_cells)), floor_row.ran = true;
             if (enabled("diagnosis")) {
                 add_only.best = std::min(add_only.best, runVoxelMapAddOnly(s, p, map)), add_only.ran = true;
+                cell64.best = std::min(cell64.best, runCell64(s, p, cell64_cells, map.clampMin(), map.clampMax()));
+                cell64.ran = true;
             }
         }
         if (enabled("hotloops")) {
@@ -516,6 +543,19 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "FAIL: FlsUpdater+PsCarver map differs from the recorded stream's\n");
         ++failures;
     }
+    if (cell64.ran) {
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < map.size(); ++i) {
+            const auto low = static_cast<uint32_t>(cell64_cells[i]);
+            uint32_t want;
+            std::memcpy(&want, &expected.logOddsData()[i], sizeof want);
+            differ += low != want || static_cast<uint8_t>(cell64_cells[i] >> 32) != expected.flagsData()[i];
+        }
+        if (differ != 0) {
+            std::fprintf(stderr, "FAIL: the 8-byte-cell what-if differs from the recorded stream's map in %zu voxels\n", differ);
+            ++failures;
+        }
+    }
     if (ps_table.ran) {
         float max_diff = 0.0f;
         std::size_t differ = 0;
@@ -546,7 +586,7 @@ int main(int argc, char** argv) {
     }
 
     std::printf("\n| stream | what | updates | best ms | Mupd/s | time / (a) |\n|---|---|---:|---:|---:|---:|\n");
-    for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user, &add_only}) printRow(*r, voxelmap);
+    for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user, &add_only, &cell64}) printRow(*r, voxelmap);
     printRow(fls_now, fls_now);
     for (const Row* r : {&ps_now, &ps_table}) printRow(*r, ps_now);
     std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags + above-seabed votes + PS crossings) + FlsUpdater per-frame scratch %.1f MB (per-voxel hit + touched list); OcTree %.1f MB\n",
