@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "sonarfusion/voxel_map.hpp"
 
 using namespace sonarfusion;
@@ -69,6 +72,27 @@ TEST(VoxelMap, ClampsAtPlusMinusFive) {
     m.add(3, 0.5f);  // climbs back from the clamp at once
     EXPECT_FLOAT_EQ(m.logOdds(3), -4.5f);
     EXPECT_NEAR(m.occupancy(3), 1.0 / (1.0 + std::exp(4.5)), 1e-6);
+}
+
+// The clamp is written min(hi, max(lo, x)) so it compiles to maxss/minss with
+// no register copies (docs/performance.md, "The clamp without register
+// copies"); its other effect: a NaN increment, which the Mapper's input checks
+// should never let through, lands on the lower bound instead of leaving a NaN
+// that no later update could clear. The same through the hot loops' Writer.
+TEST(VoxelMap, ANonFiniteIncrementCannotLeaveANaNInTheMap) {
+    VoxelMap m{MapConfig{}};
+    m.add(3, 1.0f);
+    m.add(3, std::nanf(""));
+    ASSERT_TRUE(std::isfinite(m.logOdds(3)));
+    EXPECT_FLOAT_EQ(m.logOdds(3), m.clampMin());
+    m.add(3, 0.5f);  // and it takes updates again
+    EXPECT_FLOAT_EQ(m.logOdds(3), m.clampMin() + 0.5f);
+    VoxelMap::Writer w = m.writer();
+    w.add(4, std::nanf(""));
+    ASSERT_TRUE(std::isfinite(m.logOdds(4)));
+    EXPECT_FLOAT_EQ(m.logOdds(4), m.clampMin());
+    w.add(5, std::numeric_limits<float>::infinity());
+    EXPECT_FLOAT_EQ(m.logOdds(5), m.clampMax());
 }
 
 TEST(VoxelMap, ReanchorClearsWithoutReallocating) {

@@ -103,9 +103,11 @@ public:
     [[nodiscard]] int psCrossings(std::size_t i) const { return ps_crossings_[i]; }
     void setPsCrossings(std::size_t i, uint8_t n) { ps_crossings_[i] = n; }
 
-    // Eqs. 6/13 followed by the clamp of Eqs. 7-8 (min/max compiles branch-free).
+    // Eqs. 6/13 followed by the clamp of Eqs. 7-8 (min/max compiles branch-free;
+    // bounds first so it is maxss/minss without register copies, and a NaN
+    // increment lands on clamp_min, docs/performance.md).
     void add(std::size_t i, float delta) {
-        log_odds_[i] = std::min(std::max(log_odds_[i] + delta, clamp_min_), clamp_max_);
+        log_odds_[i] = std::min(clamp_max_, std::max(clamp_min_, log_odds_[i] + delta));
     }
     void setFlag(std::size_t i, uint8_t flag) { flags_[i] |= flag; }
 
@@ -118,7 +120,7 @@ public:
             : l_(m.log_odds_.data()), f_(m.flags_.data()), above_(m.above_seabed_votes_.data()),
               crossed_(m.ps_crossings_.data()), lo_(m.clamp_min_),
               hi_(m.clamp_max_) {}
-        void add(std::size_t i, float delta) { l_[i] = std::min(std::max(l_[i] + delta, lo_), hi_); }
+        void add(std::size_t i, float delta) { l_[i] = std::min(hi_, std::max(lo_, l_[i] + delta)); }
         void setFlag(std::size_t i, uint8_t flag) { f_[i] |= flag; }
         void addAboveSeabedVote(std::size_t i) { above_[i] = static_cast<uint8_t>(above_[i] + (above_[i] < kAboveSeabedVotesMax)); }
         void addPsCrossing(std::size_t i) { crossed_[i] = static_cast<uint8_t>(crossed_[i] + (crossed_[i] < kPsCrossingsMax)); }
