@@ -61,7 +61,9 @@ void saveMap(const std::string& path, const VoxelMap& map, const std::string& va
         f.write(variant.data(), static_cast<std::streamsize>(variant.size()));
         f.write(reinterpret_cast<const char*>(map.logOddsData().data()),
                 static_cast<std::streamsize>(map.size() * sizeof(float)));
-        f.write(reinterpret_cast<const char*>(map.flagsData().data()), static_cast<std::streamsize>(map.size()));
+        std::vector<uint8_t> flags(map.size());  // the flag byte, composed from the map's planes
+        for (std::size_t i = 0; i < map.size(); ++i) flags[i] = map.flags(i);
+        f.write(reinterpret_cast<const char*>(flags.data()), static_cast<std::streamsize>(flags.size()));
         f.write(reinterpret_cast<const char*>(map.aboveSeabedVotesData().data()),
                 static_cast<std::streamsize>(map.size()));
         f.write(reinterpret_cast<const char*>(map.psCrossingsData().data()), static_cast<std::streamsize>(map.size()));

@@ -55,7 +55,7 @@ int flsMaxArcSamples(const MapperConfig& cfg, const FlsModel& m) {
 }  // namespace
 
 std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
-    // Per voxel (docs/algorithm.md, "Memory"): 7 B map, 10 B FLS frame scratch,
+    // Per voxel (docs/algorithm.md, "Memory"): 9 B map, 10 B FLS frame scratch,
     // 10 B segmentation; plus the FLS direction tables and the fixed rings.
     const double voxels = static_cast<double>(cfg.map.nx) * cfg.map.ny * cfg.map.nz;
     const double columns = static_cast<double>(cfg.map.nx + 1) * (cfg.map.ny + 1);
@@ -70,7 +70,7 @@ std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
                        arc_vectors * 12.0 * (cfg.fls_max_geometries + 1) +
                        (cfg.fls_max_geometries - 1) * (static_cast<double>(cfg.fls.rows + cfg.fls.beams) * 8.0 +
                                                        static_cast<double>(cfg.fls.beams) * cfg.fls.elevation_samples * 12.0);
-    const double bytes = voxels * (20.0 + 7.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
+    const double bytes = voxels * (20.0 + 9.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
                          (cfg.detector.seabed_capacity + 2.0 * cfg.detector.risen_capacity) * 32.0 + cfg.detector.replay_pings * 176.0 +
                          cfg.detector.replay_fls_frames * (static_cast<double>(cfg.fls.rows) * cfg.fls.beams + 192.0) +
                          cfg.survey.published_capacity * 48.0;

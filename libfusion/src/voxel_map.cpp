@@ -18,14 +18,18 @@ VoxelMap::VoxelMap(const MapConfig& cfg)
         throw std::invalid_argument("map clamp must satisfy clamp_min < 0 < clamp_max");
     const std::size_t n = static_cast<std::size_t>(nx_) * ny_ * nz_;
     log_odds_.assign(n, 0.0f);
-    flags_.assign(n, 0);
+    ps_observed_.assign(n, 0);
+    fls_touched_.assign(n, 0);
+    ps_echoes_.assign(n, 0);
     above_seabed_votes_.assign(n, 0);
     ps_crossings_.assign(n, 0);
 }
 
 void VoxelMap::clear() {
     std::fill(log_odds_.begin(), log_odds_.end(), 0.0f);
-    std::fill(flags_.begin(), flags_.end(), uint8_t{0});
+    std::fill(ps_observed_.begin(), ps_observed_.end(), uint8_t{0});
+    std::fill(fls_touched_.begin(), fls_touched_.end(), uint8_t{0});
+    std::fill(ps_echoes_.begin(), ps_echoes_.end(), uint8_t{0});
     std::fill(above_seabed_votes_.begin(), above_seabed_votes_.end(), uint8_t{0});
     std::fill(ps_crossings_.begin(), ps_crossings_.end(), uint8_t{0});
 }
@@ -49,7 +53,9 @@ void VoxelMap::saveState(StateWriter& w) const {
     for (int i = 0; i < 3; ++i) w.pod(origin_[i]);
     if (!initialised_) return;  // an unanchored map is all zeros (release() and the constructor see to it)
     w.bytes(log_odds_.data(), log_odds_.size() * sizeof(float));
-    w.bytes(flags_.data(), flags_.size());
+    // The flag byte as before the planes, so checkpoints keep their format.
+    if (uint8_t* f = w.reserve(log_odds_.size()))
+        for (std::size_t i = 0; i < log_odds_.size(); ++i) f[i] = flags(i);
     w.bytes(above_seabed_votes_.data(), above_seabed_votes_.size());
     w.bytes(ps_crossings_.data(), ps_crossings_.size());
 }
@@ -67,8 +73,11 @@ bool VoxelMap::loadState(StateReader& r) {
         initialised_ = false;
         return true;
     }
-    if (!r.bytes(log_odds_.data(), log_odds_.size() * sizeof(float)) || !r.bytes(flags_.data(), flags_.size()) ||
-        !r.bytes(above_seabed_votes_.data(), above_seabed_votes_.size()) ||
+    if (!r.bytes(log_odds_.data(), log_odds_.size() * sizeof(float))) return false;
+    const uint8_t* f = r.view(log_odds_.size());
+    if (f == nullptr) return false;
+    for (std::size_t i = 0; i < log_odds_.size(); ++i) setFlags(i, f[i]);
+    if (!r.bytes(above_seabed_votes_.data(), above_seabed_votes_.size()) ||
         !r.bytes(ps_crossings_.data(), ps_crossings_.size()))
         return false;
     for (float& l : log_odds_)  // never trust a value from disk to be inside the clamp

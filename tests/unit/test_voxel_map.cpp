@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
+#include "sonarfusion/state_codec.hpp"
 #include "sonarfusion/voxel_map.hpp"
 
 using namespace sonarfusion;
@@ -93,6 +95,44 @@ TEST(VoxelMap, ANonFiniteIncrementCannotLeaveANaNInTheMap) {
     EXPECT_FLOAT_EQ(m.logOdds(4), m.clampMin());
     w.add(5, std::numeric_limits<float>::infinity());
     EXPECT_FLOAT_EQ(m.logOdds(5), m.clampMax());
+}
+
+// The flags live in three byte planes (PS observed, FLS touched, echo count);
+// flags() must still give the saved byte, and the checkpoint keep its format.
+TEST(VoxelMap, TheFlagByteSurvivesItsPlanes) {
+    MapConfig c;
+    c.nx = c.ny = c.nz = 8;  // 512 voxels: two of each byte value
+    VoxelMap m{c};
+    m.initialiseAt(Eigen::Vector3d::Zero());
+    for (std::size_t i = 0; i < m.size(); ++i) m.setFlags(i, static_cast<uint8_t>(i));
+    for (std::size_t i = 0; i < m.size(); ++i) {
+        const auto f = static_cast<uint8_t>(i);
+        ASSERT_EQ(m.flags(i), f);
+        EXPECT_EQ(m.psObserved(i), (f & VoxelMap::kPsObserved) != 0);
+        EXPECT_EQ(m.flsTouched(i), (f & VoxelMap::kFlsTouched) != 0);
+        EXPECT_EQ(m.psEchoCount(i), f >> VoxelMap::kPsEchoShift);
+    }
+    // Setting a flag, through the map or a writer, leaves the other bits.
+    m.setFlags(7, static_cast<uint8_t>(5u << VoxelMap::kPsEchoShift));
+    m.setFlag(7, VoxelMap::kFlsTouched);
+    EXPECT_EQ(m.flags(7), (5u << VoxelMap::kPsEchoShift) | VoxelMap::kFlsTouched);
+    VoxelMap::Writer w = m.writer();
+    w.setFlag(7, VoxelMap::kPsObserved);
+    w.setFlag(7, 0);
+    EXPECT_EQ(m.flags(7), (5u << VoxelMap::kPsEchoShift) | VoxelMap::kFlsTouched | VoxelMap::kPsObserved);
+    // The echo count saturates and keeps the flags.
+    for (int k = 0; k < 100; ++k) m.addPsEcho(7);
+    EXPECT_EQ(m.psEchoCount(7), VoxelMap::kPsEchoMax);
+    EXPECT_EQ(m.flags(7), 0xff);
+    // A checkpoint round trip keeps every byte.
+    std::vector<uint8_t> buf(m.size() * 16 + 256);
+    StateWriter sw(buf.data(), buf.size());
+    m.saveState(sw);
+    ASSERT_FALSE(sw.overflow());
+    VoxelMap back{c};
+    StateReader sr(buf.data(), sw.size());
+    ASSERT_TRUE(back.loadState(sr));
+    for (std::size_t i = 0; i < m.size(); ++i) ASSERT_EQ(back.flags(i), m.flags(i)) << i;
 }
 
 TEST(VoxelMap, ReanchorClearsWithoutReallocating) {

@@ -549,7 +549,7 @@ int main(int argc, char** argv) {
             const auto low = static_cast<uint32_t>(cell64_cells[i]);
             uint32_t want;
             std::memcpy(&want, &expected.logOddsData()[i], sizeof want);
-            differ += low != want || static_cast<uint8_t>(cell64_cells[i] >> 32) != expected.flagsData()[i];
+            differ += low != want || static_cast<uint8_t>(cell64_cells[i] >> 32) != expected.flags(i);
         }
         if (differ != 0) {
             std::fprintf(stderr, "FAIL: the 8-byte-cell what-if differs from the recorded stream's map in %zu voxels\n", differ);
@@ -589,8 +589,8 @@ int main(int argc, char** argv) {
     for (const Row* r : {&voxelmap, &octo, &floor_row, &pipeline, &octo_user, &add_only, &cell64}) printRow(*r, voxelmap);
     printRow(fls_now, fls_now);
     for (const Row* r : {&ps_now, &ps_table}) printRow(*r, ps_now);
-    std::printf("\nmemory: VoxelMap %.1f MB (log-odds + flags + above-seabed votes + PS crossings) + FlsUpdater per-frame scratch %.1f MB (per-voxel hit + touched list); OcTree %.1f MB\n",
-                map.size() * 7.0 / 1e6, map.size() * 6.0 / 1e6, octo_memory / 1e6);
+    std::printf("\nmemory: VoxelMap %.1f MB (log-odds + PS-observed, FLS-touched, echo-count, above-seabed-vote and PS-crossing planes) + FlsUpdater per-frame scratch %.1f MB (per-voxel hit + touched list); OcTree %.1f MB\n",
+                static_cast<double>(map.memoryBytes()) / 1e6, map.size() * 6.0 / 1e6, octo_memory / 1e6);
     if (voxelmap.ran && octo.ran) {
         const double speedup = octo.best / voxelmap.best;
         std::printf("ratio (a/b): ours is %.1fx faster than OctoMap on the identical stream  [target >= 20x: %s]\n",

@@ -123,6 +123,8 @@ public:
     void add(std::size_t v, float delta, uint8_t flag) {
         out_.updates.push_back({static_cast<uint32_t>(v), delta});
         out_.update_flag.push_back(flag);
+        if (out_.flag_runs.empty() || out_.flag_runs.back().flag != flag)
+            out_.flag_runs.push_back({static_cast<uint32_t>(out_.updates.size() - 1), flag});
         ++(fls_ ? out_.fls_updates : out_.ps_updates);
         if (!fls_ && !out_.rays.empty()) out_.rays.back().end_update = static_cast<uint32_t>(out_.updates.size());
     }
@@ -144,14 +146,31 @@ private:
 
 }  // namespace
 
+template <uint8_t Flag>
+void replayRun(const VoxelUpdate* u, std::size_t begin, std::size_t end, MapWriterSink& sink) {
+    for (std::size_t i = begin; i < end; ++i) sink.add(u[i].voxel, u[i].delta, Flag);
+}
+
 void replayStream(const UpdateStream& stream, std::size_t count, VoxelMap& map) {
     // Through the Mapper's own sink (MapWriterSink: VoxelMap::Writer, whose
     // locals keep the map's data pointers and clamp bounds out of the flag
-    // store's aliasing; a flag of 0, the FLS's free space, is not stored).
+    // store's aliasing), run by run with the flag a constant, as the updaters
+    // call it: a flag of 0 (the FLS's free space) stores nothing, the others
+    // one plain byte store into their plane.
     const VoxelUpdate* u = stream.updates.data();
-    const uint8_t* flag = stream.update_flag.data();
     MapWriterSink sink(map);
-    for (std::size_t i = 0; i < count; ++i) sink.add(u[i].voxel, u[i].delta, flag[i]);
+    const auto& runs = stream.flag_runs;
+    for (std::size_t r = 0; r < runs.size() && runs[r].begin < count; ++r) {
+        const std::size_t begin = runs[r].begin;
+        const std::size_t end = r + 1 < runs.size() ? std::min<std::size_t>(runs[r + 1].begin, count) : count;
+        switch (runs[r].flag) {
+            case 0: replayRun<0>(u, begin, end, sink); break;
+            case VoxelMap::kPsObserved: replayRun<VoxelMap::kPsObserved>(u, begin, end, sink); break;
+            case VoxelMap::kFlsTouched: replayRun<VoxelMap::kFlsTouched>(u, begin, end, sink); break;
+            default:  // no updater sets another flag; kept exact all the same
+                for (std::size_t i = begin; i < end; ++i) sink.add(u[i].voxel, u[i].delta, runs[r].flag);
+        }
+    }
 }
 
 Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
@@ -292,6 +311,11 @@ Recording recordUpdateStream(const ScenarioLog& log, const MapperConfig& cfg) {
     if (std::memcmp(replay.logOddsData().data(), rec.reference_log_odds.data(),
                     rec.reference_log_odds.size() * sizeof(float)) != 0)
         throw std::runtime_error("recorded update stream does not reproduce the Mapper's map bit for bit");
+    // And its flags: every FLS vote is in the stream; the PS-observed flag the
+    // stream sets must be the Mapper's too (the Mapper also sets it at echoes).
+    for (std::size_t i = 0; i < replay.size(); ++i)
+        if (replay.flsTouched(i) != mapper.map().flsTouched(i) || (replay.psObserved(i) && !mapper.map().psObserved(i)))
+            throw std::runtime_error("recorded update stream does not reproduce the Mapper's flags");
     return rec;
 }
 

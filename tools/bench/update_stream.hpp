@@ -81,6 +81,15 @@ struct UpdateStream {
     Eigen::Vector3d map_centre = Eigen::Vector3d::Zero();  // what the Mapper was initialised at
     std::vector<VoxelUpdate> updates;  // in application order
     std::vector<uint8_t> update_flag;  // VoxelMap flag each update sets (same order)
+    // The same flags as runs: updates [begin, next run's begin) all set `flag`.
+    // The replay loops over runs with the flag a constant, as at each of the
+    // updaters' call sites (sink.add(v, delta, VoxelMap::kPsObserved) ...), so
+    // it pays no per-update flag read or test the Mapper does not pay.
+    struct FlagRun {
+        uint32_t begin;
+        uint8_t flag;
+    };
+    std::vector<FlagRun> flag_runs;
     std::vector<MessageRecord> messages;
     std::vector<CarvingRay> rays;
     std::size_t fls_updates = 0, ps_updates = 0;

@@ -22,7 +22,7 @@ public:
     explicit MapWriterSink(VoxelMap& map) : map_(map), out_(map.writer()) {}
     void add(std::size_t v, float delta, uint8_t flag) {
         out_.add(v, delta);
-        if (flag != 0) out_.setFlag(v, flag);
+        out_.setFlag(v, flag);  // the updaters pass a constant: a plain store of 1, or nothing
     }
     void echo(std::size_t v) {
         map_.setFlag(v, VoxelMap::kPsObserved);

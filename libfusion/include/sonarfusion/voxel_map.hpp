@@ -59,6 +59,11 @@ public:
     [[nodiscard]] int nz() const { return nz_; }
     [[nodiscard]] std::size_t size() const { return log_odds_.size(); }
     [[nodiscard]] double resolution() const { return resolution_; }
+    // Bytes the per-voxel arrays hold (9 per voxel: 4 of log-odds, 5 byte planes).
+    [[nodiscard]] std::size_t memoryBytes() const {
+        return log_odds_.size() * sizeof(float) + ps_observed_.size() + fls_touched_.size() + ps_echoes_.size() +
+               above_seabed_votes_.size() + ps_crossings_.size();
+    }
     [[nodiscard]] const Eigen::Vector3d& origin() const { return origin_; }  // min corner
     [[nodiscard]] Eigen::Vector3d centre() const;
     [[nodiscard]] Eigen::Vector3d extent() const { return Eigen::Vector3d(nx_, ny_, nz_) * resolution_; }
@@ -82,13 +87,17 @@ public:
 
     [[nodiscard]] float logOdds(std::size_t i) const { return log_odds_[i]; }
     [[nodiscard]] float occupancy(std::size_t i) const { return occupancyFromLogOdds(log_odds_[i]); }
-    [[nodiscard]] uint8_t flags(std::size_t i) const { return flags_[i]; }
-    [[nodiscard]] bool psObserved(std::size_t i) const { return (flags_[i] & kPsObserved) != 0; }
-    [[nodiscard]] bool flsTouched(std::size_t i) const { return (flags_[i] & kFlsTouched) != 0; }
-    [[nodiscard]] int psEchoCount(std::size_t i) const { return flags_[i] >> kPsEchoShift; }
-    void addPsEcho(std::size_t i) {
-        if (psEchoCount(i) < kPsEchoMax) flags_[i] = static_cast<uint8_t>(flags_[i] + (1u << kPsEchoShift));
+    // The flag byte as saved (kPsObserved | kFlsTouched | echo count << kPsEchoShift).
+    // Held as three byte planes, so the hot loops set a flag with a plain store
+    // of 1 instead of a read-modify-write of a shared byte (docs/performance.md,
+    // "Flags as byte planes").
+    [[nodiscard]] uint8_t flags(std::size_t i) const {
+        return static_cast<uint8_t>(ps_observed_[i] | (fls_touched_[i] << 1) | (ps_echoes_[i] << kPsEchoShift));
     }
+    [[nodiscard]] bool psObserved(std::size_t i) const { return ps_observed_[i] != 0; }
+    [[nodiscard]] bool flsTouched(std::size_t i) const { return fls_touched_[i] != 0; }
+    [[nodiscard]] int psEchoCount(std::size_t i) const { return ps_echoes_[i]; }
+    void addPsEcho(std::size_t i) { ps_echoes_[i] = static_cast<uint8_t>(ps_echoes_[i] + (ps_echoes_[i] < kPsEchoMax)); }
 
     // Frames in which an FLS return nearer than the seabed anywhere on its
     // beam's elevation arc voted this voxel: something stood above the seabed
@@ -109,7 +118,12 @@ public:
     void add(std::size_t i, float delta) {
         log_odds_[i] = std::min(clamp_max_, std::max(clamp_min_, log_odds_[i] + delta));
     }
-    void setFlag(std::size_t i, uint8_t flag) { flags_[i] |= flag; }
+    // Sets kPsObserved and/or kFlsTouched (other bits are ignored; the echo
+    // count has addPsEcho). With a constant flag the tests fold away.
+    void setFlag(std::size_t i, uint8_t flag) {
+        if (flag & kPsObserved) ps_observed_[i] = 1;
+        if (flag & kFlsTouched) fls_touched_[i] = 1;
+    }
 
     // The same updates for hot loops: the data pointers and clamp bounds live
     // in locals, so the compiler need not reload them after every flag byte
@@ -117,17 +131,22 @@ public:
     class Writer {
     public:
         explicit Writer(VoxelMap& m)
-            : l_(m.log_odds_.data()), f_(m.flags_.data()), above_(m.above_seabed_votes_.data()),
+            : l_(m.log_odds_.data()), ps_observed_(m.ps_observed_.data()), fls_touched_(m.fls_touched_.data()),
+              above_(m.above_seabed_votes_.data()),
               crossed_(m.ps_crossings_.data()), lo_(m.clamp_min_),
               hi_(m.clamp_max_) {}
         void add(std::size_t i, float delta) { l_[i] = std::min(hi_, std::max(lo_, l_[i] + delta)); }
-        void setFlag(std::size_t i, uint8_t flag) { f_[i] |= flag; }
+        void setFlag(std::size_t i, uint8_t flag) {  // as VoxelMap::setFlag
+            if (flag & kPsObserved) ps_observed_[i] = 1;
+            if (flag & kFlsTouched) fls_touched_[i] = 1;
+        }
         void addAboveSeabedVote(std::size_t i) { above_[i] = static_cast<uint8_t>(above_[i] + (above_[i] < kAboveSeabedVotesMax)); }
         void addPsCrossing(std::size_t i) { crossed_[i] = static_cast<uint8_t>(crossed_[i] + (crossed_[i] < kPsCrossingsMax)); }
 
     private:
         float* l_;
-        uint8_t* f_;
+        uint8_t* ps_observed_;
+        uint8_t* fls_touched_;
         uint8_t* above_;
         uint8_t* crossed_;
         float lo_, hi_;
@@ -135,7 +154,11 @@ public:
     [[nodiscard]] Writer writer() { return Writer(*this); }
     // Direct write, for loading a saved map; clamps like add().
     void setLogOdds(std::size_t i, float l) { log_odds_[i] = 0.0f; add(i, l); }
-    void setFlags(std::size_t i, uint8_t f) { flags_[i] = f; }
+    void setFlags(std::size_t i, uint8_t f) {  // the whole byte, as flags() returns it
+        ps_observed_[i] = f & kPsObserved;
+        fls_touched_[i] = (f & kFlsTouched) >> 1;
+        ps_echoes_[i] = static_cast<uint8_t>(f >> kPsEchoShift);
+    }
 
     [[nodiscard]] float clampMin() const { return clamp_min_; }
     [[nodiscard]] float clampMax() const { return clamp_max_; }
@@ -143,7 +166,6 @@ public:
     void saveState(StateWriter& w) const;
     [[nodiscard]] bool loadState(StateReader& r);
     [[nodiscard]] const std::vector<float>& logOddsData() const { return log_odds_; }
-    [[nodiscard]] const std::vector<uint8_t>& flagsData() const { return flags_; }
     [[nodiscard]] const std::vector<uint8_t>& aboveSeabedVotesData() const { return above_seabed_votes_; }
     [[nodiscard]] const std::vector<uint8_t>& psCrossingsData() const { return ps_crossings_; }
 
@@ -155,7 +177,9 @@ private:
     Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
     bool initialised_ = false;
     std::vector<float> log_odds_;
-    std::vector<uint8_t> flags_;
+    std::vector<uint8_t> ps_observed_;  // 0 or 1: kPsObserved
+    std::vector<uint8_t> fls_touched_;  // 0 or 1: kFlsTouched
+    std::vector<uint8_t> ps_echoes_;    // 0..kPsEchoMax
     std::vector<uint8_t> above_seabed_votes_;
     std::vector<uint8_t> ps_crossings_;
 };
