@@ -62,7 +62,7 @@ void saveMap(const std::string& path, const VoxelMap& map, const std::string& va
         f.write(reinterpret_cast<const char*>(map.logOddsData().data()),
                 static_cast<std::streamsize>(map.size() * sizeof(float)));
         std::vector<uint8_t> flags(map.size());  // the flag byte, composed from the map's planes
-        for (std::size_t i = 0; i < map.size(); ++i) flags[i] = map.flags(i);
+        map.copyFlagBytes(flags.data());
         f.write(reinterpret_cast<const char*>(flags.data()), static_cast<std::streamsize>(flags.size()));
         f.write(reinterpret_cast<const char*>(map.aboveSeabedVotesData().data()),
                 static_cast<std::streamsize>(map.size()));

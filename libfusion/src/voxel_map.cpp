@@ -54,8 +54,7 @@ void VoxelMap::saveState(StateWriter& w) const {
     if (!initialised_) return;  // an unanchored map is all zeros (release() and the constructor see to it)
     w.bytes(log_odds_.data(), log_odds_.size() * sizeof(float));
     // The flag byte as before the planes, so checkpoints keep their format.
-    if (uint8_t* f = w.reserve(log_odds_.size()))
-        for (std::size_t i = 0; i < log_odds_.size(); ++i) f[i] = flags(i);
+    if (uint8_t* f = w.reserve(size())) copyFlagBytes(f);
     w.bytes(above_seabed_votes_.data(), above_seabed_votes_.size());
     w.bytes(ps_crossings_.data(), ps_crossings_.size());
 }

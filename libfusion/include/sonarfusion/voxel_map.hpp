@@ -94,6 +94,10 @@ public:
     [[nodiscard]] uint8_t flags(std::size_t i) const {
         return static_cast<uint8_t>(ps_observed_[i] | (fls_touched_[i] << 1) | (ps_echoes_[i] << kPsEchoShift));
     }
+    // flags(i) of every voxel into out[0, size()): the byte checkpoints and map files save.
+    void copyFlagBytes(uint8_t* out) const {
+        for (std::size_t i = 0; i < size(); ++i) out[i] = flags(i);
+    }
     [[nodiscard]] bool psObserved(std::size_t i) const { return ps_observed_[i] != 0; }
     [[nodiscard]] bool flsTouched(std::size_t i) const { return fls_touched_[i] != 0; }
     [[nodiscard]] int psEchoCount(std::size_t i) const { return ps_echoes_[i]; }
