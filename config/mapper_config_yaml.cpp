@@ -158,6 +158,7 @@ DaemonConfig parse(const YAML::Node& root) {
     seg.read("base_follows_sloped_faces", g.base_follows_sloped_faces);
     seg.read("join_touching_floods", g.join_touching_floods);
     seg.read("fill_below_objects", g.fill_below_objects);
+    seg.read("fill_below_not_through_crossed_water", g.fill_below_not_through_crossed_water);
     seg.read("fill_below_through_unobserved", g.fill_below_through_unobserved);
     seg.read("fill_below_widens_through_unobserved", g.fill_below_widens_through_unobserved);
     seg.read("seabed_from_lower_envelope", g.seabed_from_lower_envelope);

@@ -520,7 +520,18 @@ void Segmenter::label(const VoxelMap& map) {
             if (seen_above && (!map.psObserved(i) || low_echoed)) label_[i] = -5;
             else if (seen_above && outweighed) label_[i] = -7;
             else if (cfg_.fls_only_extension > 0 && !confirmed_.empty() && !map.psObserved(i)) label_[i] = -3;
-            else if (cfg_.fill_below_objects) label_[i] = -4;
+            else if (cfg_.fill_below_objects) {
+                // With fill_below_not_through_crossed_water: not where the PS
+                // saw through and the FLS saw nothing the seabed cannot explain.
+                // The layer on the seabed's own voxel is exempt: PS rays that end on
+                // the seabed beside an object's foot cross it within the fan's
+                // thickness (2 deg: 5-9 cm at 3-5 m, about a voxel).
+                const bool crossed_water = cfg_.fill_below_not_through_crossed_water && crossings_counted_ &&
+                                           above_seabed_counted_ && map.psCrossings(i) > 0 &&
+                                           map.flsAboveSeabedVotes(i) == 0 && aboveBaseline(map, i, 1.5 * res);
+                if (crossed_water) ++stats_.crossed_water_voxels;
+                else label_[i] = -4;
+            }
             continue;
         }
         label_[i] = aboveBaseline(map, i, cfg_.min_object_height) ? -1 : -2;
@@ -739,8 +750,14 @@ const SegmentationStats& Segmenter::run(const VoxelMap& map) {
     // A map saved before PS crossings were counted (SFMAP001/002) holds none
     // anywhere: every crossed voxel would look uncontested.
     crossings_counted_ = false;
-    if (cfg_.fls_votes_per_ps_crossing > 0.0)
+    if (cfg_.fls_votes_per_ps_crossing > 0.0 || cfg_.fill_below_not_through_crossed_water)
         for (std::size_t i = 0; i < map.size() && !crossings_counted_; ++i) crossings_counted_ = map.psCrossings(i) > 0;
+    // Likewise the FLS's above-seabed votes (none in SFMAP001 maps, none without
+    // the FLS): with none anywhere, no voxel's lack of them says anything.
+    above_seabed_counted_ = false;
+    if (cfg_.fill_below_not_through_crossed_water)
+        for (std::size_t i = 0; i < map.size() && !above_seabed_counted_; ++i)
+            above_seabed_counted_ = map.flsAboveSeabedVotes(i) > 0;
     if (!confirmed_.empty()) markConfirmed(map);
     label(map);
     return stats_;

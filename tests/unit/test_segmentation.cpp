@@ -1168,3 +1168,48 @@ TEST(SegmentationEchoField, CrossedVoxelsTheFlsOutweighsDoNotClimbOverATopEdge) 
     for (int ix = 45; ix < 55; ++ix) fin += seg.objectLabel(m.linear({ix, 54, 74})) != 0;
     EXPECT_EQ(fin, 0);
 }
+
+// Under an overhang (a pipe with one end raised, holdout pipe_pitched_alt4_off04)
+// the FLS's elevation arcs fill the water between the raised part and the
+// seabed with votes, and the fill below joined all of it straight down
+// (precision 0.687). PS rays crossed those voxels on to the seabed beyond, and
+// no FLS vote there came from nearer than the seabed: both sensors say water.
+// Under an object's top the PS is shadowed (no crossing) or the FLS saw the
+// body stand above the seabed; there the fill still passes. The layer on the
+// seabed's own voxel is exempt: rays ending on the seabed beside a foot cross
+// it within the fan's thickness (segmentation.fill_below_not_through_crossed_water).
+TEST(SegmentationEchoField, FillBelowStopsAtWaterThePsCrossed) {
+    // rule on/off; crossings and above-seabed votes of the layers under the slab
+    // (iz 77..79; `lowest_only`: crossings on iz 79 alone) -> voxels joined there
+    auto underJoined = [](bool rule, int crossings, int votes, bool lowest_only = false) {
+        VoxelMap m{MapConfig{}};
+        buildEchoedBlock(m, 76, false);  // a 0.2 m slab, layers 75..76, its top echoed; the seabed under it too
+        for (int ix = 45; ix < 55; ++ix)
+            for (int iy = 45; iy < 55; ++iy) {
+                m.setFlsAboveSeabedVotes(m.linear({ix, iy, 75}), 12);  // the FLS saw the slab stand up
+                for (int iz = 77; iz <= 79; ++iz) {
+                    const std::size_t v = m.linear({ix, iy, iz});
+                    m.add(v, 3.0f);  // voted by the FLS's arcs
+                    m.setFlag(v, VoxelMap::kPsObserved);
+                    m.setFlsAboveSeabedVotes(v, static_cast<uint8_t>(votes));
+                    if (!lowest_only || iz == 79) m.setPsCrossings(v, static_cast<uint8_t>(crossings));
+                }
+            }
+        SegmentationConfig cfg;  // the defaults
+        cfg.fill_below_not_through_crossed_water = rule;
+        Segmenter seg(cfg, true, m);
+        seg.run(m);
+        EXPECT_EQ(seg.stats().objects, 1);
+        EXPECT_NE(seg.objectLabel(m.linear({50, 50, 76})), 0) << "the slab itself";
+        int joined = 0;
+        for (int ix = 45; ix < 55; ++ix)
+            for (int iy = 45; iy < 55; ++iy)
+                for (int iz = 77; iz <= 79; ++iz) joined += seg.objectLabel(m.linear({ix, iy, iz})) != 0;
+        return joined;
+    };
+    EXPECT_EQ(underJoined(false, 3, 0), 300) << "off: every occupied voxel straight below joins";
+    EXPECT_EQ(underJoined(true, 3, 0), 0) << "crossed, every FLS vote the seabed's: water";
+    EXPECT_EQ(underJoined(true, 3, 2), 300) << "the FLS saw something stand above the seabed there";
+    EXPECT_EQ(underJoined(true, 0, 0), 300) << "no ray crossed: the PS's shadow under the top";
+    EXPECT_EQ(underJoined(true, 3, 0, true), 300) << "only the layer on the seabed's voxel crossed: exempt";
+}

@@ -450,6 +450,17 @@ struct SegmentationConfig {
     // looks down at 20-60 deg and never sees under an object's top edge or the
     // lower flanks of a rounded body, while the FLS does.
     bool fill_below_objects = true;
+    // With fill_below_objects: an occupied voxel PS rays crossed on their way to
+    // an echo farther out joins straight down only when the FLS voted it at least
+    // once from nearer than the seabed (fls above-seabed votes). Below an
+    // object's top the PS is shadowed: no ray crosses there. A ray that did
+    // cross went on past the voxel, and with no FLS vote the seabed cannot
+    // explain, every vote it holds is the seabed's own return on its elevation
+    // arc: water under an overhang (a pipe with one end raised), not the body
+    // (docs/algorithm.md, "The fill below stops at water the PS crossed").
+    // Maps without crossing counts (SFMAP001/002) keep the fill. False: every
+    // occupied voxel straight below joins.
+    bool fill_below_not_through_crossed_water = true;
     // With fill_below_objects: the fill also passes through voxels no update
     // ever reached (log-odds at the prior, no flag), down to the voxel the seabed
     // runs through. The sonars look down: space under an object's surface that

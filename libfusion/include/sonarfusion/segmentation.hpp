@@ -31,6 +31,7 @@ struct SegmentationStats {
     int unconfirmed_voxels = 0;    // would be candidates but the PS never confirmed them
     int mirror_echo_voxels = 0;    // echo-confirmed, but the FLS saw nothing above the seabed there
     int water_above_echo_voxels = 0;  // crossed, echo-less, confirmed only by the layer below
+    int crossed_water_voxels = 0;     // occupied below an object, crossed by the PS, no above-seabed FLS vote: not filled
     int objects = 0;
     int objects_dropped = 0;       // beyond max_objects
 };
@@ -51,6 +52,12 @@ public:
     // Per voxel: 0, or the id of the object it belongs to.
     [[nodiscard]] int32_t objectLabel(std::size_t voxel) const { return label_[voxel]; }
     [[nodiscard]] bool occupied(std::size_t voxel) const { return occupied_[voxel] != 0; }
+    // How an object voxel joined its object in the last run: the negated label
+    // code of label() (1 a PS-confirmed seed or candidate, 2 a low candidate, 3 an
+    // FLS-only extension, 4 straight down, 5 off-swath, 6 the seabed's own voxel,
+    // 7 PS-crossed but outweighed, 8 unobserved below); 0 for other voxels. For
+    // diagnosis (which rule put a false voxel in a map).
+    [[nodiscard]] int joinClass(std::size_t voxel) const { return label_[voxel] > 0 ? join_class_[voxel] : 0; }
     // Seabed baseline depth (NED z, m) of column (ix, iy); NaN where unknown.
     [[nodiscard]] double seabedDepth(int ix, int iy) const { return baseline_[static_cast<std::size_t>(iy) * nx_ + ix]; }
     [[nodiscard]] const SegmentationStats& stats() const { return stats_; }
@@ -85,6 +92,7 @@ private:
     bool require_ps_;
     bool baseline_at_echo_centres_ = false;  // this run's baseline: echo voxel centres, not top faces
     bool crossings_counted_ = false;  // the map counts PS crossings (not an SFMAP001/002 file)
+    bool above_seabed_counted_ = false;  // the map holds FLS above-seabed votes somewhere (the FLS mapped; not SFMAP001)
     int nx_, ny_, nz_;
     float logodds_threshold_;
     std::vector<uint8_t> occupied_;      // per voxel
