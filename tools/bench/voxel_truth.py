@@ -63,6 +63,20 @@ def read_voxels(path):
     return resolution, rows
 
 
+# sf-eval's precision test (apps/eval/metrics.cpp): within one voxel, i.e. the voxel itself or a
+# face neighbour, in the half-voxel keys of voxel_key (a voxel step is 2).
+FACE_STEPS = ((0, 0, 0), (2, 0, 0), (-2, 0, 0), (0, 2, 0), (0, -2, 0), (0, 0, 2), (0, 0, -2))
+
+
+def voxel_key(p, res):
+    """A voxel centre as integers in half-voxel units (centres are odd): exact set membership."""
+    return tuple(int(round(c / res * 2)) for c in p)
+
+
+def within_one_voxel(k, keys):
+    return any((k[0] + dx, k[1] + dy, k[2] + dz) in keys for dx, dy, dz in FACE_STEPS)
+
+
 def median(values):
     s = sorted(values)
     return s[len(s) // 2] if s else None
@@ -79,16 +93,13 @@ def main():
     a = ap.parse_args()
 
     res, rows = read_voxels(a.voxels)
-    key = lambda p: tuple(int(round(c / res * 2)) for c in p)  # half-voxel units: centres are odd
-    truth = {key(p) for p in read_ply_centres(a.gt_object)}
-    steps = ((0, 0, 0), (2, 0, 0), (-2, 0, 0), (0, 2, 0), (0, -2, 0), (0, 0, 2), (0, 0, -2))
-    near = lambda k: any((k[0] + dx, k[1] + dy, k[2] + dz) in truth for dx, dy, dz in steps)
+    truth = {voxel_key(p, res) for p in read_ply_centres(a.gt_object)}
 
     objects = [r for r in rows if r[3] > 0]
     per = {}
     false_lines = []
     for p, cls, counts, _ in objects:
-        ok = near(key(p))
+        ok = within_one_voxel(voxel_key(p, res), truth)
         per.setdefault(cls, {True: [], False: []})[ok].append(counts)
         if not ok:
             false_lines.append(f"{p[0]:.4f} {p[1]:.4f} {p[2]:.4f} {cls} " + " ".join(str(c) for c in counts))
@@ -102,10 +113,9 @@ def main():
         med = " / ".join("-" if not f else str(median([c[i] for c in f])) for i in range(len(FIELDS)))
         print(f"| {cls} {CLASSES.get(cls, '?')} | {len(t)} | {len(f)} | {med} |")
     if a.visible:
-        visible = {key(p) for p in read_ply_centres(a.visible)}
-        predicted = {key(p) for p, _, _, _ in objects}
-        near_pred = lambda k: any((k[0] + dx, k[1] + dy, k[2] + dz) in predicted for dx, dy, dz in steps)
-        missed = sum(1 for k in visible if not near_pred(k))
+        visible = {voxel_key(p, res) for p in read_ply_centres(a.visible)}
+        predicted = {voxel_key(p, res) for p, _, _, _ in objects}
+        missed = sum(1 for k in visible if not within_one_voxel(k, predicted))
         print(f"visible true voxels {len(visible)}, missed (no object voxel within one voxel) {missed}")
     if a.false_out:
         with open(a.false_out, "w") as f:
