@@ -123,6 +123,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("fls_shadow_min_frames", m.detector.fls_shadow_min_frames);
     det.read("replay_pings", m.detector.replay_pings);
     det.read("replay_pings_carve_only", m.detector.replay_pings_carve_only);
+    det.read("replay_risen_pings_whole", m.detector.replay_risen_pings_whole);
     det.read("replay_fls_frames", m.detector.replay_fls_frames);
     det.rejectUnknownKeys();
 

@@ -17,8 +17,9 @@ constexpr char kMagic[8] = {'S', 'F', 'C', 'K', 'P', 'T', '0', '1'};
 // 2: survey mode (every map slot, published boxes, detector count); 3: parked maps; 4: above-seabed FLS
 // votes per voxel; 5: PS crossings per voxel; 6: held PS pings, which seabed echoes were judged; 7: the
 // detector's FLS shadows; 8: held FLS frames; 9: which held frames wait for a seabed
-// plane (update.fls_seabed_judged_later), and its counter.
-constexpr uint32_t kVersion = 9;
+// plane (update.fls_seabed_judged_later), and its counter; 10: the plane the detector judged its newest
+// echo against and whether echoes taken before any plane declared (detector.replay_risen_pings_whole).
+constexpr uint32_t kVersion = 10;
 
 uint64_t fnv1a(const uint8_t* p, std::size_t n, uint64_t h = 1469598103934665603ull) {
     for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;

@@ -742,14 +742,36 @@ bool Mapper::loadHeldFrames(StateReader& r) {
     return true;
 }
 
+bool Mapper::psSectorHasPassed(const Eigen::Vector3d& object) const {
+    if (held_count_ == 0) return false;
+    const int cap = static_cast<int>(held_pings_.size());
+    const HeldPing& newest = held_pings_[static_cast<std::size_t>((held_next_ - 1 + cap) % cap)];
+    const Eigen::Vector3d sensor = newest.world_from_sensor.translation();
+    const Eigen::Vector3d echo = newest.world_from_sensor * (newest.range * ps_model_.centreDirection(newest.head_angle));
+    const Eigen::Vector2d look = (echo - sensor).head<2>();
+    const double below = object.z() - sensor.z();  // NED: how far the object lies under the sensor
+    if (look.norm() < 1e-6 || !(below > 0.0)) return false;
+    // The sector's steepest ray (the head's far limit, plus half the fan's thickness).
+    const double steepest = std::min(std::max(std::fabs(cfg_.ps.tilt + cfg_.ps.head_min), std::fabs(cfg_.ps.tilt + cfg_.ps.head_max)) +
+                                         0.5 * cfg_.ps.beam_width_vertical,
+                                     0.5 * M_PI - 1e-6);
+    const double near_edge = below / std::tan(steepest);
+    const double ahead = look.normalized().dot((object - sensor).head<2>());
+    return ahead < near_edge + cfg_.detector.cluster_radius;
+}
+
 // The detector declares an object only once enough risen echoes gather, and
 // only once a seabed plane exists where they lie (ObjectDetector): by then the
 // PS may have swept past the object (a mission starting close to it, a vehicle
 // fast for its ping rate). The pings that found it are carved into the new map
 // in their order, the ping that declared it the newest of them: as water only
 // (DetectorConfig::replay_pings_carve_only, CarvingOnlySink), or as they would
-// have been had the map existed.
+// have been had the map existed; with carving only, the risen ones whole when
+// early echoes declared the map and the PS sector has passed the object
+// (DetectorConfig::replay_risen_pings_whole).
 void Mapper::replayHeldPings(int slot) {
+    const bool early = cfg_.detector.replay_risen_pings_whole && detector_.declaredByEarlyEchoes() &&
+                       psSectorHasPassed(*detector_.detection());
     const int n = held_count_;
     const int cap = static_cast<int>(held_pings_.size());
     for (int k = 0; k < n; ++k) {
@@ -757,7 +779,13 @@ void Mapper::replayHeldPings(int slot) {
         if (!reaches(slot, h.world_from_sensor.translation(), h.range_max)) continue;
         VoxelMap& map = maps_[static_cast<std::size_t>(slot)];
         PsCarveStats st;
-        if (cfg_.detector.replay_pings_carve_only) {
+        // DetectorConfig::replay_risen_pings_whole: when echoes taken before any
+        // seabed plane declared the map, the PS has looked at the object only
+        // before it existed; a held ping whose echo rises is such a look,
+        // replayed as a live ping.
+        const bool whole =
+            early && detector_.heldEchoRises(h.world_from_sensor * (h.range * ps_model_.centreDirection(h.head_angle)));
+        if (cfg_.detector.replay_pings_carve_only && !whole) {
             MapWriterSink out(map);
             CarvingOnlySink<MapWriterSink> sink(out);
             st = ps_carver_.apply(h.head_angle, h.range, h.world_from_sensor, map, sink, h.strength, h.carve_range);
@@ -867,7 +895,7 @@ std::size_t Mapper::stateBytesBound() const {
            static_cast<std::size_t>(cfg_.detector.seabed_capacity + 2 * cfg_.detector.risen_capacity) * 24 + 16 +
            held_frames_.size() * (8 + 12 * sizeof(double) + 1 + 6 * sizeof(double) + sizeof(int)) + held_pixels_.size() +
            16 +
-           static_cast<std::size_t>(cfg_.detector.seabed_capacity) + 64 + held_pings_.size() * 17 * sizeof(double) + 16 +
+           static_cast<std::size_t>(cfg_.detector.seabed_capacity) + 64 + held_pings_.size() * 17 * sizeof(double) + 16 + 64 +
            static_cast<std::size_t>(cfg_.nav_buffer_capacity) * pose + 16 +
            static_cast<std::size_t>(kMaxNavTimelineConfirm) * pose + 64 + sizeof(MapperCounters);
 }

@@ -34,6 +34,8 @@ void ObjectDetector::reset() {
     last_xy_.setZero();
     detection_.reset();
     detections_ = 0;
+    newest_judging_plane_.reset();
+    declared_early_ = false;
     newest_fit_valid_ = false;
 }
 
@@ -277,6 +279,13 @@ bool ObjectDetector::risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane
     return p.z() < plane.depthAt(p.head<2>()) - riseThreshold(plane);
 }
 
+bool ObjectDetector::heldEchoRises(const Eigen::Vector3d& p) const {
+    if (!p.allFinite()) return false;
+    const std::optional<SeabedFit> around = seabedAt(p.head<2>());
+    const std::optional<SeabedFit>& plane = around ? around : newest_judging_plane_;
+    return plane && risesAbove(p, *plane);
+}
+
 void ObjectDetector::addSeabed(const Eigen::Vector3d& p, EchoState state) {
     seabed_[seabed_next_] = p;
     seabed_state_[seabed_next_] = state;
@@ -304,6 +313,7 @@ bool ObjectDetector::declareAround(const Eigen::Vector2d& xy) {
     if (n < cfg_.min_risen_echoes) return false;
     detection_ = sum / n;
     ++detections_;
+    declared_early_ = false;  // judgeEarlyEchoes sets it for its own declarations
     // The detector stays armed (survey mode): the echoes of this cluster are
     // spent, so the same object declares again only from fresh echoes.
     int kept = 0;
@@ -335,7 +345,10 @@ bool ObjectDetector::judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit
     // Newest first: the ring's last risen_now entries are the echoes just risen.
     for (int k = 0; k < std::min(risen_now, risen_count_); ++k) {
         const int i = ((risen_next_ - 1 - k) % cfg_.risen_capacity + cfg_.risen_capacity) % cfg_.risen_capacity;
-        if (declareAround(risen_[i].head<2>())) return true;
+        if (declareAround(risen_[i].head<2>())) {
+            declared_early_ = true;
+            return true;
+        }
     }
     return false;
 }
@@ -375,6 +388,7 @@ bool ObjectDetector::addShadow(const Eigen::Vector3d& p) {
     if (n < cfg_.fls_shadow_min_frames) return false;
     detection_ = sum / n;
     ++detections_;
+    declared_early_ = false;  // a shadow, not echoes taken before any plane
     // Spent, as a risen echo cluster is: the same shadow declares again only
     // from fresh frames.
     int kept = 0;
@@ -395,6 +409,7 @@ bool ObjectDetector::addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* ne
         addSeabed(p, EchoState::Unjudged);
         return false;
     }
+    newest_judging_plane_ = seabed;
     const bool early = cfg_.judge_early_echoes && judgeEarlyEchoes(xy, *seabed);
     if (!risesAbove(p, *seabed)) {
         // A seabed echo (risen echoes never enter the fit, so an object cannot
@@ -443,6 +458,11 @@ void ObjectDetector::saveState(StateWriter& w) const {
     const Eigen::Vector3d d = detection_.value_or(Eigen::Vector3d::Zero());
     for (int i = 0; i < 3; ++i) w.pod(d[i]);
     w.pod(detections_);
+    w.pod(static_cast<uint8_t>(newest_judging_plane_.has_value()));
+    const SeabedFit f = newest_judging_plane_.value_or(SeabedFit{});
+    for (double v : {f.centre.x(), f.centre.y(), f.depth, f.gradient.x(), f.gradient.y(), f.rms}) w.pod(v);
+    w.pod(f.echoes);
+    w.pod(static_cast<uint8_t>(declared_early_));
 }
 
 bool ObjectDetector::loadState(StateReader& r) {
@@ -460,6 +480,16 @@ bool ObjectDetector::loadState(StateReader& r) {
         return false;
     detection_.reset();
     if (has) detection_ = d;
+    uint8_t has_plane = 0;
+    SeabedFit f;
+    if (!r.pod(has_plane) || has_plane > 1) return false;
+    for (double* v : {&f.centre.x(), &f.centre.y(), &f.depth, &f.gradient.x(), &f.gradient.y(), &f.rms})
+        if (!r.pod(*v) || !std::isfinite(*v)) return false;
+    uint8_t early = 0;
+    if (!r.pod(f.echoes) || !r.pod(early) || early > 1) return false;
+    declared_early_ = early != 0;
+    newest_judging_plane_.reset();
+    if (has_plane) newest_judging_plane_ = f;
     newest_fit_valid_ = false;  // recomputed from the loaded ring on demand
     return true;
 }

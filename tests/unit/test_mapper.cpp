@@ -172,6 +172,7 @@ TEST(Mapper, HeldPingsCarveALateMapWithoutAddingTheirEchoes) {
         applyVariant(Variant::CarveOnly, cfg);
         cfg.detector.replay_pings = replay_pings;
         cfg.detector.replay_pings_carve_only = carve_only;
+        cfg.detector.replay_risen_pings_whole = false;  // every held ping carves only (next test)
         auto mapper = std::make_unique<Mapper>(cfg);
         runPass(*mapper, world, 1000, -4.5);
         return mapper;
@@ -191,6 +192,50 @@ TEST(Mapper, HeldPingsCarveALateMapWithoutAddingTheirEchoes) {
     EXPECT_EQ(higher, 0);
     EXPECT_GT(lower, 100);
     EXPECT_GT(full_echoes_differ, 0);
+}
+
+// DetectorConfig::replay_risen_pings_whole (docs/algorithm.md, "The held pings
+// that saw the object"). A pass starting over the box's front edge: the PS's first
+// echoes fall on the box before any seabed plane, the plane found beyond it
+// declares the box from them, and by then the PS sector's near edge has
+// reached it. The held pings whose echo rises (the box's) are replayed whole:
+// the map gains PS echoes above the seabed, and only there. With the rule off
+// no echo count changes. From 4.5 m before the box (previous test) the PS
+// still looks at it after the detection, and the rule changes nothing.
+TEST(Mapper, HeldPingsThatSawTheObjectAddTheirEchoesToALateMap) {
+    test::BoxWorld world;
+    auto run = [&](int replay_pings, bool whole, double start_x) {
+        MapperConfig cfg;
+        applyVariant(Variant::CarveOnly, cfg);
+        cfg.detector.replay_pings = replay_pings;
+        cfg.detector.replay_pings_carve_only = true;
+        cfg.detector.replay_risen_pings_whole = whole;
+        auto mapper = std::make_unique<Mapper>(cfg);
+        runPass(*mapper, world, 1000, start_x);
+        return mapper;
+    };
+    const auto whole = run(1024, true, -1.0), carved = run(1024, false, -1.0), unheld = run(0, true, -1.0);
+    for (const auto* m : {whole.get(), carved.get(), unheld.get()}) ASSERT_TRUE(m->map().initialised());
+    ASSERT_EQ(whole->map().centre(), unheld->map().centre());
+    const VoxelMap& map = whole->map();
+    int more_above = 0, differ_below = 0, carved_differ = 0;
+    for (std::size_t i = 0; i < map.size(); ++i) {
+        const bool above = map.centreOf(map.fromLinear(i)).z() < world.seabed - map.resolution();
+        const int extra = map.psEchoCount(i) - unheld->map().psEchoCount(i);
+        more_above += above && extra > 0;
+        differ_below += !above && extra != 0;
+        carved_differ += carved->map().psEchoCount(i) != unheld->map().psEchoCount(i);
+    }
+    EXPECT_GT(more_above, 10);
+    EXPECT_EQ(differ_below, 0);
+    EXPECT_EQ(carved_differ, 0);
+
+    const auto far_whole = run(1024, true, -4.5), far_carved = run(1024, false, -4.5);
+    int far_differ = 0;
+    for (std::size_t i = 0; i < far_whole->map().size(); ++i)
+        far_differ += far_whole->map().psEchoCount(i) != far_carved->map().psEchoCount(i) ||
+                      far_whole->map().logOdds(i) != far_carved->map().logOdds(i);
+    EXPECT_EQ(far_differ, 0);
 }
 
 // DetectorConfig::replay_fls_frames (docs/algorithm.md, "The looks before the

@@ -278,6 +278,20 @@ struct DetectorConfig {
     // before the map carve it"). False: carved with their echoes, as if the map
     // had existed ("A mission that starts close to an object").
     bool replay_pings_carve_only = true;
+    // With replay_pings_carve_only: when the map was declared by echoes taken
+    // before any seabed plane stood where they lie (judge_early_echoes) and the
+    // PS sector's near edge has come within cluster_radius of the detection
+    // (Mapper::psSectorHasPassed), the held pings whose echo rises above the
+    // detector's seabed (ObjectDetector::heldEchoRises) are replayed whole,
+    // echo, crossings and flags, as live pings. Then those looks are all the
+    // PS will give of the object on this pass: a pass starting 5 m before a
+    // mine at 4 m altitude holds it from its first pings, and with carving
+    // only the map held no PS echo of it and no object. Where the PS still
+    // looks at the object after the detection, its far looks would only smear
+    // echoes across the fan, and every held ping carves only, as before
+    // (docs/algorithm.md, "The held pings that saw the object"). False: every
+    // held ping carves only.
+    bool replay_risen_pings_whole = true;
     // FLS frames kept (ring, allocated once: copies of the configured
     // geometry's images, 128 x 49 KB for 512 x 96, with their poses and the
     // seabed their votes were judged against) and applied to a map when the

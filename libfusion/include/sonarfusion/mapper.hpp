@@ -192,6 +192,11 @@ private:
     };
     // Carves the held pings, oldest first, into the slot's new map.
     void replayHeldPings(int slot);
+    // Whether the PS sector's near edge (its steepest ray, from the newest held
+    // ping's pose, along its look) has come within cluster_radius of `object`
+    // or past it: this pass's PS looks no more at the object's near part
+    // (DetectorConfig::replay_risen_pings_whole).
+    [[nodiscard]] bool psSectorHasPassed(const Eigen::Vector3d& object) const;
     [[nodiscard]] bool loadHeldPings(StateReader& r);
     void holdFrame(const FlsFrame& frame, const Eigen::Isometry3d& world_from_sensor,
                    const std::optional<SeabedFit>& seabed);

@@ -70,6 +70,15 @@ public:
     [[nodiscard]] double riseThreshold(const SeabedFit& fit) const;
     // Whether echo p stands above `plane` by more than riseThreshold(plane).
     [[nodiscard]] bool risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane) const;
+    // Whether a held ping's echo p (DetectorConfig::replay_risen_pings_whole)
+    // rises: against the plane around it or, where none stands (the object's
+    // own echoes, judged risen, leave the disc of a mission's first metres
+    // under min_seabed_echoes), the plane the newest echo was judged against.
+    [[nodiscard]] bool heldEchoRises(const Eigen::Vector3d& p) const;
+    // Whether the latest declaration came from echoes taken before any seabed
+    // plane stood where they lie, judged when one first did (judge_early_echoes):
+    // the PS saw the object before the detector could judge it.
+    [[nodiscard]] bool declaredByEarlyEchoes() const { return declared_early_; }
 
 private:
     // How fit() trims: Rise, for judging rises (twice leave out echoes more
@@ -118,6 +127,8 @@ private:
     int shadow_count_ = 0, shadow_next_ = 0;
     Eigen::Vector2d last_xy_ = Eigen::Vector2d::Zero();
     std::optional<Eigen::Vector3d> detection_;
+    std::optional<SeabedFit> newest_judging_plane_;  // the plane addEcho judged its newest echo against
+    bool declared_early_ = false;                    // declaredByEarlyEchoes
     mutable std::optional<SeabedFit> newest_fit_;  // seabedAtNewestEcho's cache
     mutable bool newest_fit_valid_ = false;
     int64_t detections_ = 0;
