@@ -42,6 +42,24 @@ def last_line(path):
         return ""
 
 
+def eval_command(evaluator, scenario, config, maps, out, figures=True):
+    """The sf-eval command scoring each variant's map: maps {variant: path} -> OUT/report.json;
+    figures: also the PNG figures in OUT/figures/, no PLY (tools/resegment scores without)."""
+    cmd = [evaluator, "--scenario", scenario, "--config", config]
+    for v, path in maps.items():
+        cmd += ["--map", f"{v}={path}"]
+    cmd += ["--json", os.path.join(out, "report.json")]
+    if figures:
+        cmd += ["--figures", os.path.join(out, "figures"), "--no-ply"]
+    return cmd
+
+
+def survey_command(evaluator, scenario, config, maps_dir, out):
+    """The sf-eval command scoring every map of MAPS_DIR as a survey -> OUT/survey.json."""
+    return [evaluator, "--scenario", scenario, "--config", config, "--map-dir", maps_dir,
+            "--json", os.path.join(out, "survey.json")]
+
+
 def main(argv):
     budget = 280.0
     if "--budget" in argv:
@@ -87,7 +105,7 @@ def main(argv):
     t_start = time.monotonic()
     lcmlog = os.path.join(out, "run.lcmlog")
     if run("sf-sim", [sim, "--scenario", scenario, "--log", lcmlog, "--threads", "1", "--quiet"], "sim.txt"):
-        maps = []
+        maps = {}
         os.makedirs(maps_dir)
         for v in VARIANTS:
             m = os.path.join(out, f"{v}.map")
@@ -95,14 +113,11 @@ def main(argv):
             if run(f"sf-mapper {v}", [mapper, "--config", config, "--log", lcmlog, "--map-out", m, "--variant", v,
                                        "--status-out", os.path.join(out, f"{v}.status.json")] + every_map,
                    f"{v}.mapper.txt"):
-                maps += ["--map", f"{v}={m}"]
+                maps[v] = m
         if maps:
-            run("sf-eval", [evaluator, "--scenario", scenario, "--config", config] + maps
-                + ["--json", os.path.join(out, "report.json"), "--figures", os.path.join(out, "figures"), "--no-ply"],
-                "eval.txt")
+            run("sf-eval", eval_command(evaluator, scenario, config, maps, out), "eval.txt")
         if len(glob.glob(os.path.join(maps_dir, "map_*.map"))) > 1:
-            run("sf-eval survey", [evaluator, "--scenario", scenario, "--config", config, "--map-dir", maps_dir,
-                                   "--json", os.path.join(out, "survey.json")], "survey.txt")
+            run("sf-eval survey", survey_command(evaluator, scenario, config, maps_dir, out), "survey.txt")
         else:
             shutil.rmtree(maps_dir, ignore_errors=True)
     if os.path.exists(lcmlog) and os.environ.get("SF_SUITE_KEEP_LOG") != "1":
