@@ -50,6 +50,14 @@ def scenario_names(scenarios_dir):
                   if os.path.basename(p) != "expectations.yaml")
 
 
+def new_row(scenario, variant, kind, **fields):
+    """One row of collect(), every field present (None or "" where there is nothing)."""
+    row = dict(scenario=scenario, variant=variant, kind=kind, precision=None, recall_visible=None, f1=None,
+               chamfer_cm=None, found=None, found_source=None, true=None, maps=None, bars="", passed=None)
+    row.update(fields)
+    return row
+
+
 def collect(root, scenarios_dir=SUITE):
     """The table as data: (rows, summary), in the table's order; render() prints it.
 
@@ -85,9 +93,7 @@ def collect(root, scenarios_dir=SUITE):
             if steps:
                 bad = [s for s in steps.get("steps", []) if s.get("rc") != 0]
                 why = "; ".join(f"{s['name']} failed: {s.get('message', '')}" for s in bad) or "no check.json"
-            rows.append(dict(scenario=name, variant=None, kind="not_run", precision=None, recall_visible=None,
-                             f1=None, chamfer_cm=None, found=None, found_source=None, true=None, maps=None,
-                             bars=f"NOT RUN: {why}", passed=None))
+            rows.append(new_row(name, None, "not_run", bars=f"NOT RUN: {why}"))
             continue
         ok = check.get("passed", False)
         passed += ok
@@ -97,8 +103,7 @@ def collect(root, scenarios_dir=SUITE):
         for v in VARIANTS:
             m = variants.get(v)
             mapper_objects = (check.get("mapper_objects") or {}).get(v)
-            row = dict(scenario=name, variant=v, kind="variant", precision=None, recall_visible=None, f1=None,
-                       chamfer_cm=None, found=None, found_source=None, true=n_true, maps=None, bars="", passed=None)
+            row = new_row(name, v, "variant", true=n_true)
             if m is None:
                 if mapper_objects is not None:
                     row.update(found=mapper_objects, found_source="mapper")
@@ -119,10 +124,10 @@ def collect(root, scenarios_dir=SUITE):
             worst_p = min((o["precision"] for o in objs if o.get("precision") is not None), default=None)
             worst_r = min((o["recall_visible"] for o in objs if o.get("recall_visible") is not None), default=None)
             det = survey.get("detection", {})
-            rows.append(dict(scenario=name, variant=f"fused, all {det.get('maps')} maps (worst object)", kind="survey",
-                             precision=worst_p, recall_visible=worst_r, f1=f1(worst_p, worst_r), chamfer_cm=None,
-                             found=det.get("found"), found_source="sf-eval", true=det.get("true"),
-                             maps=det.get("maps"), bars="", passed=None))
+            rows.append(new_row(name, f"fused, all {det.get('maps')} maps (worst object)", "survey",
+                                precision=worst_p, recall_visible=worst_r, f1=f1(worst_p, worst_r),
+                                found=det.get("found"), found_source="sf-eval", true=det.get("true"),
+                                maps=det.get("maps")))
     summary = dict(passed=passed, failed=failed, missing=missing, total=len(names), runtime=runtime)
     return rows, summary
 
