@@ -110,6 +110,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("min_seabed_echoes", m.detector.min_seabed_echoes);
     det.read("min_rise", m.detector.min_rise);
     det.read("rise_sigmas", m.detector.rise_sigmas);
+    det.read("rise_from_deepest_in_beam", m.detector.rise_from_deepest_in_beam);
     det.read("cluster_radius", m.detector.cluster_radius);
     det.read("min_risen_echoes", m.detector.min_risen_echoes);
     det.read("risen_capacity", m.detector.risen_capacity);

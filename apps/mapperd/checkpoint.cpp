@@ -18,8 +18,9 @@ constexpr char kMagic[8] = {'S', 'F', 'C', 'K', 'P', 'T', '0', '1'};
 // votes per voxel; 5: PS crossings per voxel; 6: held PS pings, which seabed echoes were judged; 7: the
 // detector's FLS shadows; 8: held FLS frames; 9: which held frames wait for a seabed
 // plane (update.fls_seabed_judged_later), and its counter; 10: the plane the detector judged its newest
-// echo against and whether echoes taken before any plane declared (detector.replay_risen_pings_whole).
-constexpr uint32_t kVersion = 10;
+// echo against and whether echoes taken before any plane declared (detector.replay_risen_pings_whole);
+// 11: each seabed echo's spread down the PS fan (detector.rise_from_deepest_in_beam).
+constexpr uint32_t kVersion = 11;
 
 uint64_t fnv1a(const uint8_t* p, std::size_t n, uint64_t h = 1469598103934665603ull) {
     for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;

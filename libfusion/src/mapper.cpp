@@ -71,7 +71,9 @@ std::size_t estimatedMemoryBytes(const MapperConfig& cfg) {
                        (cfg.fls_max_geometries - 1) * (static_cast<double>(cfg.fls.rows + cfg.fls.beams) * 8.0 +
                                                        static_cast<double>(cfg.fls.beams) * cfg.fls.elevation_samples * 12.0);
     const double bytes = voxels * (20.0 + 9.0 * cfg.survey.max_maps) + columns * 8.0 * 13 + fls + cfg.nav_buffer_capacity * 64.0 +
-                         (cfg.detector.seabed_capacity + 2.0 * cfg.detector.risen_capacity) * 32.0 + cfg.detector.replay_pings * 176.0 +
+                         // Per seabed slot: the echo, its state and spread, two scratch entries.
+                         cfg.detector.seabed_capacity * 48.0 + 2.0 * cfg.detector.risen_capacity * 32.0 +
+                         cfg.detector.replay_pings * 176.0 +
                          cfg.detector.replay_fls_frames * (static_cast<double>(cfg.fls.rows) * cfg.fls.beams + 192.0) +
                          cfg.survey.published_capacity * 48.0;
     return bytes > 1e18 ? static_cast<std::size_t>(1e18) : static_cast<std::size_t>(bytes);
@@ -471,9 +473,14 @@ Outcome Mapper::addPs(const PsPing& ping) {
     // first from there, so its own leading edge does not rise.
     const double steepest = ping.head_angle + 0.5 * cfg_.ps.beam_width_vertical;
     bool declared = false;
-    if (peak)
-        declared = nearer ? detector_.addEchoPoint(pointAt(*peak, ping.head_angle), pointAt(nearest_bin, steepest))
-                          : detector_.addEchoPoint(pointAt(*peak, ping.head_angle));
+    if (peak) {
+        // DetectorConfig::rise_from_deepest_in_beam: the strongest echo may have
+        // come from anywhere across the fan's thickness, as deep as its steepest edge.
+        const Eigen::Vector3d at = pointAt(*peak, ping.head_angle);
+        const double deeper_by = pointAt(*peak, steepest).z() - at.z();
+        declared = nearer ? detector_.addEchoPoint(at, pointAt(nearest_bin, steepest), deeper_by)
+                          : detector_.addEchoPoint(at, deeper_by);
+    }
     else if (nearer)
         declared = detector_.addNearestEcho(pointAt(nearest_bin, steepest));
     if (declared) onDetection(*detector_.detection());
@@ -783,8 +790,13 @@ void Mapper::replayHeldPings(int slot) {
         // seabed plane declared the map, the PS has looked at the object only
         // before it existed; a held ping whose echo rises is such a look,
         // replayed as a live ping.
-        const bool whole =
-            early && detector_.heldEchoRises(h.world_from_sensor * (h.range * ps_model_.centreDirection(h.head_angle)));
+        const bool whole = early && [&] {
+            const Eigen::Vector3d at = h.world_from_sensor * (h.range * ps_model_.centreDirection(h.head_angle));
+            const Eigen::Vector3d deepest =
+                h.world_from_sensor *
+                (h.range * ps_model_.centreDirection(h.head_angle + 0.5 * cfg_.ps.beam_width_vertical));
+            return detector_.heldEchoRises(at, deepest.z() - at.z());
+        }();
         if (cfg_.detector.replay_pings_carve_only && !whole) {
             MapWriterSink out(map);
             CarvingOnlySink<MapWriterSink> sink(out);
@@ -895,7 +907,7 @@ std::size_t Mapper::stateBytesBound() const {
            static_cast<std::size_t>(cfg_.detector.seabed_capacity + 2 * cfg_.detector.risen_capacity) * 24 + 16 +
            held_frames_.size() * (8 + 12 * sizeof(double) + 1 + 6 * sizeof(double) + sizeof(int)) + held_pixels_.size() +
            16 +
-           static_cast<std::size_t>(cfg_.detector.seabed_capacity) + 64 + held_pings_.size() * 17 * sizeof(double) + 16 + 64 +
+           static_cast<std::size_t>(cfg_.detector.seabed_capacity) * (1 + sizeof(double)) + 64 + held_pings_.size() * 17 * sizeof(double) + 16 + 64 +
            static_cast<std::size_t>(cfg_.nav_buffer_capacity) * pose + 16 +
            static_cast<std::size_t>(kMaxNavTimelineConfirm) * pose + 64 + sizeof(MapperCounters);
 }

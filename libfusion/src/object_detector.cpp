@@ -20,6 +20,7 @@ ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
             "3 <= min_seabed_echoes <= seabed_capacity <= 2^20, 1 <= min_risen_echoes <= risen_capacity <= 2^16");
     seabed_.assign(cfg.seabed_capacity, Eigen::Vector3d::Zero());
     seabed_state_.assign(cfg.seabed_capacity, EchoState::Seabed);
+    seabed_deeper_by_.assign(cfg.seabed_capacity, 0.0);
     residual_.assign(cfg.seabed_capacity, 0.0);
     disc_.assign(cfg.seabed_capacity, 0);
     risen_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
@@ -29,6 +30,7 @@ ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
 void ObjectDetector::reset() {
     seabed_count_ = seabed_next_ = 0;
     std::fill(seabed_state_.begin(), seabed_state_.end(), EchoState::Seabed);
+    std::fill(seabed_deeper_by_.begin(), seabed_deeper_by_.end(), 0.0);
     risen_count_ = risen_next_ = 0;
     shadow_count_ = shadow_next_ = 0;
     last_xy_.setZero();
@@ -274,21 +276,25 @@ double ObjectDetector::riseThreshold(const SeabedFit& fit) const {
     return std::max(cfg_.min_rise, cfg_.rise_sigmas * fit.rms);
 }
 
-bool ObjectDetector::risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane) const {
+bool ObjectDetector::risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane, double deeper_by) const {
     // NED: up is -z, so an echo that rose above the seabed has a smaller z.
-    return p.z() < plane.depthAt(p.head<2>()) - riseThreshold(plane);
+    const double seabed = plane.depthAt(p.head<2>());
+    if (!(p.z() < seabed - riseThreshold(plane))) return false;
+    // rise_from_deepest_in_beam: risen from wherever in the fan's thickness it came.
+    return !cfg_.rise_from_deepest_in_beam || p.z() + std::max(0.0, deeper_by) < seabed - cfg_.min_rise;
 }
 
-bool ObjectDetector::heldEchoRises(const Eigen::Vector3d& p) const {
+bool ObjectDetector::heldEchoRises(const Eigen::Vector3d& p, double deeper_by) const {
     if (!p.allFinite()) return false;
     const std::optional<SeabedFit> around = seabedAt(p.head<2>());
     const std::optional<SeabedFit>& plane = around ? around : newest_judging_plane_;
-    return plane && risesAbove(p, *plane);
+    return plane && risesAbove(p, *plane, deeper_by);
 }
 
-void ObjectDetector::addSeabed(const Eigen::Vector3d& p, EchoState state) {
+void ObjectDetector::addSeabed(const Eigen::Vector3d& p, EchoState state, double deeper_by) {
     seabed_[seabed_next_] = p;
     seabed_state_[seabed_next_] = state;
+    seabed_deeper_by_[seabed_next_] = std::isfinite(deeper_by) ? std::max(0.0, deeper_by) : 0.0;
     seabed_next_ = (seabed_next_ + 1) % cfg_.seabed_capacity;
     if (seabed_count_ < cfg_.seabed_capacity) ++seabed_count_;
 }
@@ -334,7 +340,7 @@ bool ObjectDetector::judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit
     int risen_now = 0;
     for (int i = 0; i < seabed_count_; ++i) {
         if (seabed_state_[i] != EchoState::Unjudged || (seabed_[i].head<2>() - xy).squaredNorm() > r2) continue;
-        const bool risen = risesAbove(seabed_[i], plane);
+        const bool risen = risesAbove(seabed_[i], plane, seabed_deeper_by_[i]);
         seabed_state_[i] = risen ? EchoState::RisenLater : EchoState::Seabed;
         if (!risen) continue;
         addRisen(seabed_[i]);
@@ -353,10 +359,10 @@ bool ObjectDetector::judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit
     return false;
 }
 
-bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p) { return addEcho(p, nullptr); }
+bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p, double deeper_by) { return addEcho(p, nullptr, deeper_by); }
 
-bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& nearest) {
-    return addEcho(p, nearest.allFinite() ? &nearest : nullptr);
+bool ObjectDetector::addEchoPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& nearest, double deeper_by) {
+    return addEcho(p, nearest.allFinite() ? &nearest : nullptr, deeper_by);
 }
 
 bool ObjectDetector::addNearestEcho(const Eigen::Vector3d& nearest) {
@@ -399,22 +405,23 @@ bool ObjectDetector::addShadow(const Eigen::Vector3d& p) {
     return true;
 }
 
-bool ObjectDetector::addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest) {
+bool ObjectDetector::addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest, double deeper_by) {
+    if (!std::isfinite(deeper_by)) deeper_by = 0.0;
     if (!p.allFinite()) return false;
     const Eigen::Vector2d xy = p.head<2>();
     last_xy_ = xy;
     newest_fit_valid_ = false;
     const std::optional<SeabedFit> seabed = seabedAt(xy);
     if (!seabed) {
-        addSeabed(p, EchoState::Unjudged);
+        addSeabed(p, EchoState::Unjudged, deeper_by);
         return false;
     }
     newest_judging_plane_ = seabed;
     const bool early = cfg_.judge_early_echoes && judgeEarlyEchoes(xy, *seabed);
-    if (!risesAbove(p, *seabed)) {
+    if (!risesAbove(p, *seabed, deeper_by)) {
         // A seabed echo (risen echoes never enter the fit, so an object cannot
         // drag the seabed up to itself).
-        addSeabed(p, EchoState::Seabed);
+        addSeabed(p, EchoState::Seabed, deeper_by);
         if (nearest == nullptr || !risesAbove(*nearest, *seabed)) return early;
         // The strongest echo was the seabed's; a nearer one above it is an
         // object the seabed outshone (one risen echo per ping, as before).
@@ -450,6 +457,7 @@ bool loadRing(StateReader& r, std::vector<Eigen::Vector3d>& ring, int& count, in
 void ObjectDetector::saveState(StateWriter& w) const {
     saveRing(w, seabed_, seabed_count_, seabed_next_);
     for (EchoState e : seabed_state_) w.pod(static_cast<uint8_t>(e));
+    for (double s : seabed_deeper_by_) w.pod(s);
     saveRing(w, risen_, risen_count_, risen_next_);
     saveRing(w, shadows_, shadow_count_, shadow_next_);
     w.pod(last_xy_.x());
@@ -474,6 +482,8 @@ bool ObjectDetector::loadState(StateReader& r) {
         if (!r.pod(v) || v > static_cast<uint8_t>(EchoState::RisenLater)) return false;
         e = static_cast<EchoState>(v);
     }
+    for (double& s : seabed_deeper_by_)
+        if (!r.pod(s) || !std::isfinite(s) || s < 0.0) return false;
     if (!loadRing(r, risen_, risen_count_, risen_next_) || !loadRing(r, shadows_, shadow_count_, shadow_next_) ||
         !r.pod(last_xy_.x()) || !r.pod(last_xy_.y()) || !r.pod(has) || !r.pod(d[0]) || !r.pod(d[1]) || !r.pod(d[2]) ||
         !r.pod(detections_) || detections_ < 0)

@@ -450,3 +450,62 @@ TEST(ObjectDetector, ARoughSeabedSlopingAlongTheLineIsNotARise) {
         }
     }
 }
+
+// DetectorConfig::rise_from_deepest_in_beam. A 2 deg thick PS fan returns from
+// anywhere across its thickness: 8 m out at 33 deg depression the same echo may
+// lie 0.12 m deeper than its beam's centre. Seabed echoes 0.15 m above a plane
+// fitted with 1 cm scatter that could lie 0.10 m deeper are no rise (found on
+// object-free seabed at 4.5-5 m altitude); an object 0.15 m tall seen from
+// near, where the fan is 0.02 m thick, still is.
+TEST(ObjectDetector, AnEchoThatCouldLieOnTheSeabedWithinTheFansThicknessIsNotARise) {
+    struct Case {
+        bool rule;
+        double deeper_by;
+        int fired;
+    };
+    for (const Case c : {Case{true, 0.10, 0}, Case{false, 0.10, 1}, Case{true, 0.02, 1}}) {
+        DetectorConfig cfg;
+        cfg.rise_from_deepest_in_beam = c.rule;
+        ObjectDetector det{cfg};
+        std::mt19937 rng(9);
+        std::normal_distribution<double> noise(0.0, 0.01);
+        std::uniform_real_distribution<double> across(-2.0, 2.0);
+        int fired = 0;
+        for (int i = 0; i < 200; ++i)  // a level seabed around the spot
+            fired += det.addEchoPoint(Eigen::Vector3d(across(rng), across(rng), 20.0 + noise(rng)), c.deeper_by);
+        ASSERT_EQ(fired, 0);
+        for (int i = 0; i < 8; ++i)  // eight echoes 0.15 m up, within 0.1 m of each other
+            fired += det.addEchoPoint(Eigen::Vector3d(0.01 * i, 0.0, 19.85 + noise(rng)), c.deeper_by);
+        EXPECT_EQ(fired, c.fired) << "rule " << c.rule << ", deeper_by " << c.deeper_by;
+    }
+}
+
+// The same for echoes taken before any plane stood where they lie: each keeps
+// its own spread down the fan until judged (judge_early_echoes), across a checkpoint.
+TEST(ObjectDetector, AnEarlyEchoKeepsItsSpreadDownTheFanUntilJudged) {
+    for (const bool rule : {true, false}) {
+        DetectorConfig cfg;
+        cfg.rise_from_deepest_in_beam = rule;
+        ObjectDetector first{cfg};
+        std::mt19937 rng(10);
+        std::normal_distribution<double> noise(0.0, 0.01);
+        std::uniform_real_distribution<double> across(-2.0, 2.0);
+        int fired = 0;
+        for (int i = 0; i < 8; ++i)  // no plane yet: held unjudged
+            fired += first.addEchoPoint(Eigen::Vector3d(0.01 * i, 0.0, 19.85 + noise(rng)), 0.10);
+        ASSERT_EQ(fired, 0);
+        // The spread is state: it survives a checkpoint.
+        std::vector<uint8_t> buf(1 << 20);
+        StateWriter w(buf.data(), buf.size());
+        first.saveState(w);
+        ObjectDetector det{cfg};
+        StateReader r(buf.data(), w.size());
+        ASSERT_TRUE(det.loadState(r));
+        for (int i = 0; i < 200; ++i) {  // the seabed around them, then judged
+            Eigen::Vector3d p(across(rng), across(rng), 20.0 + noise(rng));
+            if (p.head<2>().norm() < 0.6) continue;
+            fired += det.addEchoPoint(p, 0.01);
+        }
+        EXPECT_EQ(fired, rule ? 0 : 1) << "rule " << rule;
+    }
+}

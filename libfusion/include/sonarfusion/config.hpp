@@ -252,6 +252,17 @@ struct DetectorConfig {
     // the plane's slope and narrows its scatter on a rough seabed sloping
     // along the track. False: one window, as before.
     bool rise_trim_converges = true;
+    // A PS echo is placed on its beam's centre, but a 2 deg thick fan returns
+    // from anywhere across its thickness: at range r and depression theta the
+    // same echo may lie up to r cos(theta) sin(beam_width_vertical / 2) deeper
+    // (0.12 m at 8 m and 33 deg; speckle moves a level seabed's peak across
+    // that). With this on, an echo rises only when, placed on its beam's
+    // steepest edge (the deepest it can lie), it still stands min_rise above
+    // the plane, as well as riseThreshold on its centre. False: the centre
+    // alone. Found on object-free seabed at 4.5-5 m altitude, where the far
+    // looks declared false objects (docs/algorithm.md, "Echoes from anywhere
+    // in the fan's thickness").
+    bool rise_from_deepest_in_beam = true;
     // The PS places its echoes on the track line, so a line flown beside an
     // earlier one lies across from all of that line's echoes. With this on, a
     // seabed plane judges only where some of its echoes lie within

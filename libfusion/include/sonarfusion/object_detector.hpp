@@ -23,12 +23,15 @@ public:
     // Feeds one echo point (NED). Returns true on each echo that declares an
     // object (detection() is then its position). The detector stays armed: the
     // declaring cluster's echoes are spent and later clusters declare again.
-    bool addEchoPoint(const Eigen::Vector3d& p);
+    // deeper_by (m, >= 0): how much deeper than p the same echo may lie
+    // within its beam's thickness (DetectorConfig::rise_from_deepest_in_beam).
+    bool addEchoPoint(const Eigen::Vector3d& p, double deeper_by = 0.0);
     // The same for a ping whose nearest echo `nearest` lies nearer than its
     // strongest `p` (DetectorConfig::nearest_echo_sigmas): when p does not
     // rise, nearest is judged against the plane p was judged against and, if
     // it rises, is the ping's risen echo; it never enters the seabed's fits.
-    bool addEchoPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& nearest);
+    // (nearest is placed on the fan's steepest edge already: no spread.)
+    bool addEchoPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& nearest, double deeper_by = 0.0);
     // A ping with no strongest echo (none above min_peak_intensity): its
     // nearest echo counts only if it rises above the plane around it.
     bool addNearestEcho(const Eigen::Vector3d& nearest);
@@ -68,13 +71,14 @@ public:
     [[nodiscard]] std::optional<double> baseline() const;
     // The rise an echo must exceed above the fitted seabed (m).
     [[nodiscard]] double riseThreshold(const SeabedFit& fit) const;
-    // Whether echo p stands above `plane` by more than riseThreshold(plane).
-    [[nodiscard]] bool risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane) const;
+    // Whether echo p stands above `plane` by more than riseThreshold(plane)
+    // and, with rise_from_deepest_in_beam, p + deeper_by down still by min_rise.
+    [[nodiscard]] bool risesAbove(const Eigen::Vector3d& p, const SeabedFit& plane, double deeper_by = 0.0) const;
     // Whether a held ping's echo p (DetectorConfig::replay_risen_pings_whole)
     // rises: against the plane around it or, where none stands (the object's
     // own echoes, judged risen, leave the disc of a mission's first metres
     // under min_seabed_echoes), the plane the newest echo was judged against.
-    [[nodiscard]] bool heldEchoRises(const Eigen::Vector3d& p) const;
+    [[nodiscard]] bool heldEchoRises(const Eigen::Vector3d& p, double deeper_by = 0.0) const;
     // Whether the latest declaration came from echoes taken before any seabed
     // plane stood where they lie, judged when one first did (judge_early_echoes):
     // the PS saw the object before the detector could judge it.
@@ -106,18 +110,19 @@ private:
     // where it lies (not yet judged); or found risen when judged later (then
     // kept out of every fit, as risen echoes are).
     enum class EchoState : uint8_t { Seabed, Unjudged, RisenLater };
-    void addSeabed(const Eigen::Vector3d& p, EchoState state);
+    void addSeabed(const Eigen::Vector3d& p, EchoState state, double deeper_by);
     void addRisen(const Eigen::Vector3d& p);
     // Judges the unjudged echoes within seabed_radius of xy against `plane`
     // (DetectorConfig::judge_early_echoes); true when the risen ones declare an object.
     bool judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit& plane);
     // Declares an object when enough risen echoes lie within cluster_radius of xy.
     bool declareAround(const Eigen::Vector2d& xy);
-    bool addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest);
+    bool addEcho(const Eigen::Vector3d& p, const Eigen::Vector3d* nearest, double deeper_by);
 
     DetectorConfig cfg_;
     std::vector<Eigen::Vector3d> seabed_;  // ring of seabed echoes
     std::vector<EchoState> seabed_state_;  // per slot of seabed_
+    std::vector<double> seabed_deeper_by_;  // per slot of seabed_: the echo's spread down its beam
     mutable std::vector<double> residual_; // scratch for the median absolute residual
     mutable std::vector<int> disc_;        // scratch: the slots discAt found
     int seabed_count_ = 0, seabed_next_ = 0;
