@@ -476,10 +476,9 @@ Outcome Mapper::addPs(const PsPing& ping) {
     if (peak) {
         // DetectorConfig::rise_from_deepest_in_beam: the strongest echo may have
         // come from anywhere across the fan's thickness, as deep as its steepest edge.
-        const Eigen::Vector3d at = pointAt(*peak, ping.head_angle);
-        const double deeper_by = pointAt(*peak, steepest).z() - at.z();
-        declared = nearer ? detector_.addEchoPoint(at, pointAt(nearest_bin, steepest), deeper_by)
-                          : detector_.addEchoPoint(at, deeper_by);
+        const FanEcho e = fanEcho(world_from_sensor, rangeOfBin(ping, *peak), ping.head_angle);
+        declared = nearer ? detector_.addEchoPoint(e.at, pointAt(nearest_bin, steepest), e.deeper_by)
+                          : detector_.addEchoPoint(e.at, e.deeper_by);
     }
     else if (nearer)
         declared = detector_.addNearestEcho(pointAt(nearest_bin, steepest));
@@ -749,6 +748,13 @@ bool Mapper::loadHeldFrames(StateReader& r) {
     return true;
 }
 
+Mapper::FanEcho Mapper::fanEcho(const Eigen::Isometry3d& world_from_sensor, double range, double head) const {
+    const Eigen::Vector3d at = world_from_sensor * (range * ps_model_.centreDirection(head));
+    const Eigen::Vector3d deepest =
+        world_from_sensor * (range * ps_model_.centreDirection(head + 0.5 * cfg_.ps.beam_width_vertical));
+    return {at, deepest.z() - at.z()};
+}
+
 bool Mapper::psSectorHasPassed(const Eigen::Vector3d& object) const {
     if (held_count_ == 0) return false;
     const int cap = static_cast<int>(held_pings_.size());
@@ -791,11 +797,8 @@ void Mapper::replayHeldPings(int slot) {
         // before it existed; a held ping whose echo rises is such a look,
         // replayed as a live ping.
         const bool whole = early && [&] {
-            const Eigen::Vector3d at = h.world_from_sensor * (h.range * ps_model_.centreDirection(h.head_angle));
-            const Eigen::Vector3d deepest =
-                h.world_from_sensor *
-                (h.range * ps_model_.centreDirection(h.head_angle + 0.5 * cfg_.ps.beam_width_vertical));
-            return detector_.heldEchoRises(at, deepest.z() - at.z());
+            const FanEcho e = fanEcho(h.world_from_sensor, h.range, h.head_angle);
+            return detector_.heldEchoRises(e.at, e.deeper_by);
         }();
         if (cfg_.detector.replay_pings_carve_only && !whole) {
             MapWriterSink out(map);

@@ -8,12 +8,12 @@
 using namespace sonarfusion;
 
 namespace {
-// The detector as a checkpoint restores it (resume is byte-exact).
-ObjectDetector restoredFromCheckpoint(const ObjectDetector& det) {
+// The detector as a checkpoint restores it (resume is byte-exact), into one made with `cfg`.
+ObjectDetector restoredFromCheckpoint(const ObjectDetector& det, const DetectorConfig& cfg = DetectorConfig{}) {
     std::vector<uint8_t> buf(1 << 20);
     StateWriter w(buf.data(), buf.size());
     det.saveState(w);
-    ObjectDetector restored{DetectorConfig{}};
+    ObjectDetector restored{cfg};
     StateReader r(buf.data(), w.size());
     EXPECT_TRUE(restored.loadState(r));
     return restored;
@@ -495,12 +495,7 @@ TEST(ObjectDetector, AnEarlyEchoKeepsItsSpreadDownTheFanUntilJudged) {
             fired += first.addEchoPoint(Eigen::Vector3d(0.01 * i, 0.0, 19.85 + noise(rng)), 0.10);
         ASSERT_EQ(fired, 0);
         // The spread is state: it survives a checkpoint.
-        std::vector<uint8_t> buf(1 << 20);
-        StateWriter w(buf.data(), buf.size());
-        first.saveState(w);
-        ObjectDetector det{cfg};
-        StateReader r(buf.data(), w.size());
-        ASSERT_TRUE(det.loadState(r));
+        ObjectDetector det = restoredFromCheckpoint(first, cfg);
         for (int i = 0; i < 200; ++i) {  // the seabed around them, then judged
             Eigen::Vector3d p(across(rng), across(rng), 20.0 + noise(rng));
             if (p.head<2>().norm() < 0.6) continue;

@@ -192,6 +192,14 @@ private:
     };
     // Carves the held pings, oldest first, into the slot's new map.
     void replayHeldPings(int slot);
+    // A PS echo at `range` on the beam at `head`, placed on the beam's centre,
+    // and how much deeper the same echo may lie across the fan's thickness, on
+    // its steepest edge (DetectorConfig::rise_from_deepest_in_beam).
+    struct FanEcho {
+        Eigen::Vector3d at;
+        double deeper_by;
+    };
+    [[nodiscard]] FanEcho fanEcho(const Eigen::Isometry3d& world_from_sensor, double range, double head) const;
     // Whether the PS sector's near edge (its steepest ray, from the newest held
     // ping's pose, along its look) has come within cluster_radius of `object`
     // or past it: this pass's PS looks no more at the object's near part
