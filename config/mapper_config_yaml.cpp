@@ -122,6 +122,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("fls_nearer_than_seabed", m.detector.fls_nearer_than_seabed);
     det.read("fls_shadow_false_alarm", m.detector.fls_shadow_false_alarm);
     det.read("fls_shadow_min_frames", m.detector.fls_shadow_min_frames);
+    det.read("fls_shadow_like_water", m.detector.fls_shadow_like_water);
     det.read("replay_pings", m.detector.replay_pings);
     det.read("replay_pings_carve_only", m.detector.replay_pings_carve_only);
     det.read("replay_risen_pings_whole", m.detector.replay_risen_pings_whole);

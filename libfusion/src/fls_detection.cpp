@@ -57,7 +57,8 @@ struct BeamBand {
 
 std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const FlsModel& model,
                                                  const Eigen::Isometry3d& world_from_sensor, const SeabedFit& seabed,
-                                                 double margin, int noise_level, double false_alarm) {
+                                                 double margin, int noise_level, double false_alarm,
+                                                 bool like_water) {
     const Eigen::Vector3d sensor = world_from_sensor.translation();
     const double depth_below = seabed.depthAt(sensor.head<2>()) - sensor.z();
     if (!(depth_below - margin > 0.0) || !(false_alarm > 0.0)) return std::nullopt;
@@ -81,14 +82,31 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
         if (!(b.far > b.near)) return std::nullopt;
         return b;
     };
-    const auto dark_at = [&](int row, int col) {
-        return frame.data[static_cast<std::size_t>(row) * frame.cols + col] <= noise_level;
-    };
+    const auto value_at = [&](int row, int col) { return frame.data[static_cast<std::size_t>(row) * frame.cols + col]; };
+    const auto dark_at = [&](int row, int col) { return value_at(row, col) <= noise_level; };
+    // like_water: the dark pixels of the water column, nearer than the
+    // seabed could return on any ray of their beam (the fastest-closing ray
+    // meeting the plane raised by the margin), hold the receiver's noise
+    // alone. Objects in the water return bright there and are not counted.
+    long water_dark = 0;
+    double water_sum = 0.0;
+    for (int col = 0; col < frame.cols && like_water; ++col) {
+        double fastest = 0.0;
+        for (double e : {lo, mid, hi}) fastest = std::max(fastest, rate(col, e));
+        if (!(fastest > 1e-6)) continue;
+        const double seabed_earliest = (depth_below - margin) / fastest;
+        for (int row = frame.rows - 1; row >= 0 && model.rangeOfRow(row) < seabed_earliest; --row) {
+            if (!dark_at(row, col)) continue;
+            water_sum += value_at(row, col);
+            ++water_dark;
+        }
+    }
     // Pass 1: per part of the band, how often a pixel is dark and how often
     // one after a dark pixel is dark too. Rows run from the far end: walk out
     // from the nearest row.
     std::array<long, kBandParts> pixels{}, dark{}, after_dark{}, dark_after_dark{};
-    long band_pixels = 0;
+    long band_pixels = 0, band_dark = 0;
+    double band_dark_sum = 0.0;
     for (int col = 0; col < frame.cols; ++col) {
         const std::optional<BeamBand> band = band_of(col);
         if (!band) continue;
@@ -101,6 +119,10 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
             const bool d = dark_at(row, col);
             ++pixels[k];
             dark[k] += d;
+            if (d) {
+                band_dark_sum += value_at(row, col);
+                ++band_dark;
+            }
             if (started && previous_dark) {
                 ++after_dark[k];
                 dark_after_dark[k] += d;
@@ -124,6 +146,16 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     // possible starts that bounds the expected count of runs as rare (the
     // frame's false alarms, whatever part they fall in).
     const double log_n = std::log(static_cast<double>(std::max<long>(1, band_pixels)));
+    // like_water: a shadow returns nothing, so its pixels are the water
+    // column's noise; a seabed turned away from the sonar (the lee of a
+    // swell, a slope falling away) still returns weakly and its dark runs are
+    // brighter. A run is a shadow only when its mean lies nearer the water's
+    // dark pixels' mean than the band's dark pixels' mean: no level to choose,
+    // both measured on this frame.
+    const bool judge_level = like_water && water_dark > 0 && band_dark > 0;
+    const double shadow_level =
+        judge_level ? 0.5 * (water_sum / static_cast<double>(water_dark) + band_dark_sum / static_cast<double>(band_dark))
+                    : 0.0;
     double best_log = std::log(false_alarm);
     int best_col = -1;
     double best_range = 0.0;
@@ -131,10 +163,11 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
         const std::optional<BeamBand> band = band_of(col);
         if (!band) continue;
         bool bright_before = false;
-        double run_log = 0.0, run_start = 0.0;
+        double run_log = 0.0, run_start = 0.0, run_sum = 0.0;
         int run = 0;
         const auto judge = [&] {
-            if (run > 0 && bright_before && log_n + run_log < best_log) {
+            if (run > 0 && bright_before && log_n + run_log < best_log &&
+                (!judge_level || run_sum < shadow_level * run)) {
                 best_log = log_n + run_log;
                 best_col = col;
                 best_range = run_start;
@@ -147,13 +180,14 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
             const int k = band->part(r);
             if (dark_at(row, col)) {
                 run_log += run == 0 ? log_p[k] : log_q[k];
+                run_sum += value_at(row, col);
                 if (run == 0) run_start = r;
                 ++run;
                 continue;
             }
             judge();
             run = 0;
-            run_log = 0.0;
+            run_log = run_sum = 0.0;
             bright_before = true;
         }
         judge();  // a run into the band's far end: the shadow of an object near it

@@ -402,7 +402,7 @@ Outcome Mapper::addFls(const FlsFrame& frame) {
             const std::optional<Eigen::Vector3d> shadow =
                 flsShadowOnSeabed(frame, model, world_from_sensor, *footprint, margin,
                                   noiseLevel(frame, cfg_.update.fls_free_space_noise_sigmas),
-                                  cfg_.detector.fls_shadow_false_alarm);
+                                  cfg_.detector.fls_shadow_false_alarm, cfg_.detector.fls_shadow_like_water);
             if (shadow) ++counters_.fls_shadows;
             if (shadow && detector_.addShadow(*shadow)) onDetection(*detector_.detection());
         }

@@ -1,7 +1,8 @@
 // FLS shadows (flsShadowOnSeabed, DetectorConfig::fls_shadow_false_alarm): a
 // dark run inside the seabed band that the frame's own speckle statistics make
 // rare is a shadow, placed where it starts on the seabed; speckle alone, a far
-// band that darkens everywhere, or a run with no seabed return before it is not.
+// band that darkens everywhere, a run with no seabed return before it, or a
+// weak seabed return brighter than the water column's noise is not.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -33,12 +34,17 @@ struct Scene {
     Scene() {
         seabed.depth = kSeabedDepth;
         seabed.rms = 0.02;
+        for (uint8_t& v : px) v = noise();  // the receiver's noise wherever nothing returns
     }
     uint8_t& at(int row, int col) { return px[static_cast<std::size_t>(row) * geometry.beams + col]; }
     double uniform() {
         state = state * 1664525u + 1013904223u;
         return (state >> 8) / static_cast<double>(1u << 24);
     }
+    // Noise alone: 1-5, well under the dark level.
+    uint8_t noise() { return static_cast<uint8_t>(1 + 5 * uniform()); }
+    // A seabed return that speckle fades under the dark level: 4-10.
+    uint8_t fade() { return static_cast<uint8_t>(4 + 7 * uniform()); }
     // Where the beam's arc meets the flat seabed: [near, far] in m.
     std::pair<double, double> seabedRanges(int col) const {
         double lo = 1e9, hi = 0.0;
@@ -58,24 +64,25 @@ struct Scene {
                 const double r = model.rangeOfRow(row);
                 if (r < near || r > far) continue;
                 const double p = r < 0.5 * (near + far) ? p_near : p_far;
-                at(row, col) = uniform() < p ? 3 : static_cast<uint8_t>(60 + 140 * uniform());
+                at(row, col) = uniform() < p ? fade() : static_cast<uint8_t>(60 + 140 * uniform());
             }
         }
     }
-    // Darkens beam col from range r0 for n rows outward; returns the first row's range.
-    double shadow(int col, double r0, int n) {
+    // Darkens beam col from range r0 for n rows outward to the noise alone
+    // (weak: to a seabed return faded under the dark level); returns the first row's range.
+    double shadow(int col, double r0, int n, bool weak = false) {
         int first = geometry.rows - 1;
         while (first > 0 && model.rangeOfRow(first) < r0) --first;  // rows run from the far end
-        for (int k = 0; k < n && first - k >= 0; ++k) at(first - k, col) = 3;
+        for (int k = 0; k < n && first - k >= 0; ++k) at(first - k, col) = weak ? fade() : noise();
         return model.rangeOfRow(first);
     }
-    std::optional<Eigen::Vector3d> detect(double false_alarm = 1e-5) const {
+    std::optional<Eigen::Vector3d> detect(double false_alarm = 1e-5, bool like_water = true) const {
         FlsFrame f;
         f.rows = geometry.rows;
         f.cols = geometry.beams;
         f.data = px.data();
         f.data_size = px.size();
-        return flsShadowOnSeabed(f, model, world_from_sensor, seabed, 0.1, kNoise, false_alarm);
+        return flsShadowOnSeabed(f, model, world_from_sensor, seabed, 0.1, kNoise, false_alarm, like_water);
     }
 };
 }  // namespace
@@ -135,6 +142,27 @@ TEST(FlsShadow, TheFarEndsOwnDarknessIsNoShadow) {
     const auto [near, far] = s.seabedRanges(col);
     s.shadow(col, near + 0.25 * (far - near), 25);
     EXPECT_TRUE(s.detect().has_value());
+}
+
+// DetectorConfig::fls_shadow_like_water: a seabed turned away from the sonar
+// (a swell's lee) returns weakly, under the dark level for as many rows as a
+// shadow, but brighter than the water column's noise. Darkness alone calls it
+// a shadow; its level says it is none. A shadow beside it still is one.
+TEST(FlsShadow, AWeakSeabedIsNoShadow) {
+    Scene s;
+    s.speckle(0.08, 0.08);
+    for (int col = 80; col < 84; ++col) {
+        const auto [near, far] = s.seabedRanges(col);
+        s.shadow(col, 0.5 * (near + far), 30, /*weak=*/true);
+    }
+    EXPECT_TRUE(s.detect(1e-5, /*like_water=*/false).has_value());
+    EXPECT_FALSE(s.detect(1e-5, /*like_water=*/true).has_value());
+    const int col = 40;
+    const auto [near, far] = s.seabedRanges(col);
+    const double r0 = s.shadow(col, 0.5 * (near + far), 25);
+    const std::optional<Eigen::Vector3d> p = s.detect(1e-5, /*like_water=*/true);
+    ASSERT_TRUE(p.has_value());
+    EXPECT_NEAR((*p - s.world_from_sensor.translation()).norm(), r0, 0.03);
 }
 
 TEST(FlsShadow, NothingWithoutASeabedBelowTheSensor) {

@@ -358,6 +358,14 @@ struct DetectorConfig {
     // fish, a dropout); at fls_shadow_false_alarm per frame, two speckle
     // shadows falling on the same 0.5 m of seabed are far rarer still.
     int fls_shadow_min_frames = 2;
+    // A shadow returns nothing: a dark run is one only when its mean pixel is
+    // nearer the mean of the water column's dark pixels (the receiver's noise
+    // alone) than that of the seabed band's dark pixels. A seabed turned away
+    // from the sonar (a swell's lee, a slope falling away) returns weakly, at
+    // or under the noise level for a long run of rows, and those runs are
+    // brighter than noise (docs/algorithm.md, "A seabed turned away is no
+    // shadow"). False: darkness alone.
+    bool fls_shadow_like_water = true;
     [[nodiscard]] std::optional<ConfigIssue> validate() const;  // keys of the `detector` block
 };
 

@@ -35,11 +35,15 @@ namespace sonarfusion {
 // band's far end then has the chance p q^(L - 1) of its parts, and over the
 // frame's N band pixels N p q^(L - 1) bounds how many such runs speckle makes
 // per frame. The rarest run is a shadow when that is below `false_alarm`.
+// With `like_water`, only a run whose mean pixel lies nearer the mean of the
+// water column's dark pixels (nearer than the seabed could return on any ray
+// of their beam) than that of the band's dark pixels counts: a shadow holds
+// nothing but noise, a seabed turned away from the sonar still returns weakly.
 // Returns the point where its first dark row meets the seabed plane (just
 // behind the object), or nothing. No allocation.
 [[nodiscard]] std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const FlsModel& model,
                                                                const Eigen::Isometry3d& world_from_sensor,
                                                                const SeabedFit& seabed, double margin,
-                                                               int noise_level, double false_alarm);
+                                                               int noise_level, double false_alarm, bool like_water);
 
 }  // namespace sonarfusion
