@@ -118,6 +118,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("rise_trim_converges", m.detector.rise_trim_converges);
     det.read("judge_early_echoes", m.detector.judge_early_echoes);
     det.read("seabed_across_lines", m.detector.seabed_across_lines);
+    det.read("envelope_per_line", m.detector.envelope_per_line);
     det.read("nearest_echo_sigmas", m.detector.nearest_echo_sigmas);
     det.read("fls_nearer_than_seabed", m.detector.fls_nearer_than_seabed);
     det.read("fls_shadow_false_alarm", m.detector.fls_shadow_false_alarm);

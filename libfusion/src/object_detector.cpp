@@ -128,11 +128,12 @@ std::optional<ObjectDetector::Disc> ObjectDetector::discAt(const Eigen::Vector2d
         d.across = along_a_line
                        ? Eigen::Vector2d(local.eigenvectors().col(0))
                        : Eigen::Vector2d(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(spread).eigenvectors().col(0));
-        const double u_xy = d.across.dot(xy - d.centre);
+        d.u_xy = d.across.dot(xy - d.centre);
         int beside = 0;
         for (const int* i = begin; i != end; ++i)
-            beside += std::fabs(d.across.dot(seabed_[*i].head<2>() - d.centre) - u_xy) <= cfg_.cluster_radius;
+            beside += std::fabs(d.across.dot(seabed_[*i].head<2>() - d.centre) - d.u_xy) <= cfg_.cluster_radius;
         if (beside < std::max(3, cfg_.min_seabed_echoes / 4)) return std::nullopt;
+        d.other_lines = beside < d.m;
     }
     return d;
 }
@@ -152,6 +153,29 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
     // two lines a level cut kept only the downhill one. One line has no spread
     // across itself, and the ridge leaves that tilt level: the level cut.
     double median_residual = 0.0, tilt = 0.0;
+    // DetectorConfig::envelope_per_line: the second halving per line, where
+    // the disc holds more than xy's own.
+    const bool per_line = lower && cfg_.seabed_across_lines && cfg_.envelope_per_line && disc.other_lines;
+    double second_beside = 0.0, second_others = 0.0;  // the second cut's medians, per group
+    auto levelResidual = [&](int i) {  // about the plane the first cut is made from
+        return seabed_[i].z() - depth0 - tilt * across.dot(seabed_[i].head<2>() - centre);
+    };
+    // Whether slot i lies on xy's own line (within cluster_radius across from it).
+    auto onOwnLine = [&](int i) {
+        return std::fabs(across.dot(seabed_[i].head<2>() - centre) - disc.u_xy) <= cfg_.cluster_radius;
+    };
+    enum class Group { All, Beside, Others };
+    // The median of value(i) (a double, or an optional one: nothing leaves i
+    // out) over the group's slots; 0 for an empty group.
+    auto groupMedian = [&](Group g, auto value) {
+        std::size_t k = 0;
+        for (const int* i = begin; i != end; ++i) {
+            if (g != Group::All && onOwnLine(*i) != (g == Group::Beside)) continue;
+            const std::optional<double> v = value(*i);
+            if (v) residual_[k++] = *v;
+        }
+        return k > 0 ? medianInPlace(residual_, k) : 0.0;
+    };
     if (lower) {
         if (cfg_.seabed_across_lines) {
             double suu = 1e-3 * disc.m, suz = 0.0;  // the plane fits' ridge: (3 cm)^2 per echo
@@ -162,10 +186,7 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
             }
             tilt = suz / suu;
         }
-        int k = 0;
-        for (const int* i = begin; i != end; ++i)
-            residual_[k++] = seabed_[*i].z() - depth0 - tilt * across.dot(seabed_[*i].head<2>() - centre);
-        median_residual = medianInPlace(residual_, static_cast<std::size_t>(k));
+        median_residual = groupMedian(Group::All, levelResidual);
     }
     SeabedFit f;
     const int passes = lower ? 6 : 4;
@@ -194,14 +215,27 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
         // A scatter under a millimetre is rounding, not the seabed's: echoes
         // exactly on a plane must all stay in the trim's window.
         const double scatter = std::max(prev.rms, 1e-3);
+        auto firstCut = [&](int i) { return levelResidual(i) >= median_residual; };
+        if (per_line && pass == 2) {
+            // Each group's median residual about the plane of the first cut,
+            // over that group's echoes the first cut kept.
+            auto about_prev = [&](int i) {
+                return firstCut(i) ? std::optional<double>(seabed_[i].z() - prev.depthAt(seabed_[i].head<2>()))
+                                   : std::nullopt;
+            };
+            second_beside = groupMedian(Group::Beside, about_prev);
+            second_others = groupMedian(Group::Others, about_prev);
+        }
         auto use = [&](int i) {  // i: a slot in the disc
             if (pass == 0) return true;
             const Eigen::Vector3d& p = seabed_[i];
             const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
             if (lower) {
-                if (pass == 1)
-                    return p.z() - depth0 - tilt * across.dot(p.head<2>() - centre) >= median_residual;
-                if (pass == 2) return residual >= 0.0;  // then the lower half about that plane
+                if (pass == 1) return firstCut(i);
+                if (pass == 2) {  // then the lower half about that plane
+                    if (!per_line) return residual >= 0.0;
+                    return firstCut(i) && residual >= (onOwnLine(i) ? second_beside : second_others);
+                }
                 return std::fabs(residual) <= 3.0 * scatter;
             }
             return pass < passes - 1 ? residual >= -scatter : std::fabs(residual) <= 3.0 * scatter;

@@ -274,6 +274,17 @@ struct DetectorConfig {
     // passes 2 m apart the uphill line stood 0.17 m above the downhill line's
     // plane (docs/algorithm.md, "Two lines on a slope across them").
     bool seabed_across_lines = true;
+    // With seabed_across_lines, where the disc holds echoes of other lines
+    // (more than cluster_radius across from xy), the lower envelope's second
+    // halving cuts each group (the echoes on xy's own line, the others) at
+    // that group's own median residual about the plane the first cut gives,
+    // over the group's echoes the first cut kept. One cut over the disc let a
+    // dense old line decide the new line's: on a 5 deg slope across
+    // two lines, 5 mm per ping, the second cut kept 1 of the new line's 15
+    // echoes, the plane's tilt across decayed to level and the uphill line's
+    // first echoes rose 0.15-0.19 m (docs/algorithm.md, "A new line beside a
+    // dense old one"). False: one cut over the whole disc.
+    bool envelope_per_line = true;
     // Echoes taken before a plane existed where they lie are judged when one
     // first does there: a risen one joins the risen echoes (and leaves the
     // seabed's fits). False: they stay seabed for good.

@@ -89,8 +89,9 @@ private:
     // than one scatter above, then keep those within 3 scatters); LowerEnvelope,
     // for a seabed a share of whose echoes may be an object's (keep those no
     // shallower than their median, then those at or below the plane through
-    // them, then three times those within 3 scatters; nothing when fewer than
-    // a quarter of min_seabed_echoes are left).
+    // them, or with envelope_per_line and two lines in the disc each line's
+    // lower half about it, then three times those within 3 scatters; nothing
+    // when fewer than a quarter of min_seabed_echoes are left).
     enum class Trim { Rise, LowerEnvelope };
     // DetectorConfig::rise_trim_converges: at most this many more windows.
     static constexpr int kMaxExtraWindows = 16;
@@ -103,6 +104,8 @@ private:
         Eigen::Vector2d centre = Eigen::Vector2d::Zero();
         double depth0 = 0.0;
         Eigen::Vector2d across = Eigen::Vector2d::UnitY();
+        double u_xy = 0.0;         // xy's offset along `across` from centre
+        bool other_lines = false;  // some echo lies more than cluster_radius across from xy
     };
     [[nodiscard]] std::optional<Disc> discAt(const Eigen::Vector2d& xy) const;
     [[nodiscard]] std::optional<SeabedFit> fitDisc(const Disc& disc, Trim trim) const;
