@@ -280,9 +280,9 @@ struct DetectorConfig {
     // that group's own median residual about the plane the first cut gives,
     // over the group's echoes the first cut kept. One cut over the disc let a
     // dense old line decide the new line's: on a 5 deg slope across
-    // two lines, 5 mm per ping, the second cut kept 1 of the new line's 15
+    // two lines, 5 mm per ping, the second cut kept 2 of the new line's 9
     // echoes, the plane's tilt across decayed to level and the uphill line's
-    // first echoes rose 0.15-0.19 m (docs/algorithm.md, "A new line beside a
+    // seabed rose 0.18 m above it (docs/algorithm.md, "A new line beside a
     // dense old one"). False: one cut over the whole disc.
     bool envelope_per_line = true;
     // Echoes taken before a plane existed where they lie are judged when one
