@@ -66,49 +66,54 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     const auto rate = [&](int col, double e) {
         return seabed.closingRate(world_from_sensor.linear() * model.directionAt(col, e).cast<double>());
     };
+    // A beam's fastest- and slowest-closing rays (the rate is monotonic in
+    // elevation, so an edge, or with roll near the centre).
+    struct Closing {
+        double fastest = 0.0, slowest = std::numeric_limits<double>::infinity();
+    };
+    const auto closing_of = [&](int col) {
+        Closing c;
+        for (double e : {lo, mid, hi}) {
+            const double v = rate(col, e);
+            c.fastest = std::max(c.fastest, v);
+            c.slowest = std::min(c.slowest, v);
+        }
+        return c;
+    };
     // The band where the arc surely meets the plane: from where its
     // fastest-closing ray meets the plane lowered by the margin to where its
-    // slowest meets it raised (the rate is monotonic in elevation, so an edge,
-    // or with roll near the centre); a ray that never closes leaves no far end.
-    const auto band_of = [&](int col) -> std::optional<BeamBand> {
-        double fastest = 0.0, slowest = std::numeric_limits<double>::infinity();
-        for (double e : {lo, mid, hi}) {
-            const double c = rate(col, e);
-            fastest = std::max(fastest, c);
-            slowest = std::min(slowest, c);
-        }
-        if (!(slowest > 1e-6)) return std::nullopt;
-        const BeamBand b{(depth_below + margin) / fastest, (depth_below - margin) / slowest};
+    // slowest meets it raised; a ray that never closes leaves no far end.
+    const auto band_of = [&](const Closing& c) -> std::optional<BeamBand> {
+        if (!(c.slowest > 1e-6)) return std::nullopt;
+        const BeamBand b{(depth_below + margin) / c.fastest, (depth_below - margin) / c.slowest};
         if (!(b.far > b.near)) return std::nullopt;
         return b;
     };
     const auto value_at = [&](int row, int col) { return frame.data[static_cast<std::size_t>(row) * frame.cols + col]; };
     const auto dark_at = [&](int row, int col) { return value_at(row, col) <= noise_level; };
-    // like_water: the dark pixels of the water column, nearer than the
-    // seabed could return on any ray of their beam (the fastest-closing ray
-    // meeting the plane raised by the margin), hold the receiver's noise
-    // alone. Objects in the water return bright there and are not counted.
-    long water_dark = 0;
-    double water_sum = 0.0;
-    for (int col = 0; col < frame.cols && like_water; ++col) {
-        double fastest = 0.0;
-        for (double e : {lo, mid, hi}) fastest = std::max(fastest, rate(col, e));
-        if (!(fastest > 1e-6)) continue;
-        const double seabed_earliest = (depth_below - margin) / fastest;
-        for (int row = frame.rows - 1; row >= 0 && model.rangeOfRow(row) < seabed_earliest; --row) {
-            if (!dark_at(row, col)) continue;
-            water_sum += value_at(row, col);
-            ++water_dark;
-        }
-    }
     // Pass 1: per part of the band, how often a pixel is dark and how often
     // one after a dark pixel is dark too. Rows run from the far end: walk out
     // from the nearest row.
     std::array<long, kBandParts> pixels{}, dark{}, after_dark{}, dark_after_dark{};
     long band_pixels = 0, band_dark = 0;
     double band_dark_sum = 0.0;
+    // like_water: the dark pixels of the water column, nearer than the
+    // seabed could return on any ray of their beam (the fastest-closing ray
+    // meeting the plane raised by the margin), hold the receiver's noise
+    // alone. Objects in the water return bright there and are not counted.
+    long water_dark = 0;
+    double water_sum = 0.0;
     for (int col = 0; col < frame.cols; ++col) {
-        const std::optional<BeamBand> band = band_of(col);
+        const Closing closing = closing_of(col);
+        if (like_water && closing.fastest > 1e-6) {
+            const double seabed_earliest = (depth_below - margin) / closing.fastest;
+            for (int row = frame.rows - 1; row >= 0 && model.rangeOfRow(row) < seabed_earliest; --row) {
+                if (!dark_at(row, col)) continue;
+                water_sum += value_at(row, col);
+                ++water_dark;
+            }
+        }
+        const std::optional<BeamBand> band = band_of(closing);
         if (!band) continue;
         bool previous_dark = false, started = false;
         for (int row = frame.rows - 1; row >= 0; --row) {
@@ -160,7 +165,7 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     int best_col = -1;
     double best_range = 0.0;
     for (int col = 0; col < frame.cols; ++col) {
-        const std::optional<BeamBand> band = band_of(col);
+        const std::optional<BeamBand> band = band_of(closing_of(col));
         if (!band) continue;
         bool bright_before = false;
         double run_log = 0.0, run_start = 0.0, run_sum = 0.0;

@@ -131,7 +131,7 @@ std::optional<ObjectDetector::Disc> ObjectDetector::discAt(const Eigen::Vector2d
         d.u_xy = d.across.dot(xy - d.centre);
         int beside = 0;
         for (const int* i = begin; i != end; ++i)
-            beside += std::fabs(d.across.dot(seabed_[*i].head<2>() - d.centre) - d.u_xy) <= cfg_.cluster_radius;
+            beside += d.onOwnLine(seabed_[*i].head<2>(), cfg_.cluster_radius);
         if (beside < std::max(3, cfg_.min_seabed_echoes / 4)) return std::nullopt;
         d.other_lines = beside < d.m;
     }
@@ -160,10 +160,7 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
     auto levelResidual = [&](int i) {  // about the plane the first cut is made from
         return seabed_[i].z() - depth0 - tilt * across.dot(seabed_[i].head<2>() - centre);
     };
-    // Whether slot i lies on xy's own line (within cluster_radius across from it).
-    auto onOwnLine = [&](int i) {
-        return std::fabs(across.dot(seabed_[i].head<2>() - centre) - disc.u_xy) <= cfg_.cluster_radius;
-    };
+    auto onOwnLine = [&](int i) { return disc.onOwnLine(seabed_[i].head<2>(), cfg_.cluster_radius); };
     enum class Group { All, Beside, Others };
     // The median of value(i) (a double, or an optional one: nothing leaves i
     // out) over the group's slots; 0 for an empty group.

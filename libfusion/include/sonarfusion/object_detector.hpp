@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -106,6 +107,10 @@ private:
         Eigen::Vector2d across = Eigen::Vector2d::UnitY();
         double u_xy = 0.0;         // xy's offset along `across` from centre
         bool other_lines = false;  // some echo lies more than cluster_radius across from xy
+        // Whether p lies on xy's own line: within `radius` of it across the axis.
+        [[nodiscard]] bool onOwnLine(const Eigen::Vector2d& p, double radius) const {
+            return std::fabs(across.dot(p - centre) - u_xy) <= radius;
+        }
     };
     [[nodiscard]] std::optional<Disc> discAt(const Eigen::Vector2d& xy) const;
     [[nodiscard]] std::optional<SeabedFit> fitDisc(const Disc& disc, Trim trim) const;
