@@ -41,6 +41,8 @@ FlsUpdater::FlsUpdater(const FlsModel& model, const UpdateConfig& cfg, const Vox
         voxel_hit_.assign(map.size() + arc_voxel_.size(), 0);  // + the words outside (arcVoxels)
         touched_.resize(voxel_hit_.size() + 1);
     }
+    if (cfg_.fls_free_space)  // half-voxel steps out to the maximum range, with room for rounding
+        free_step_samples_.assign(static_cast<std::size_t>(std::max(0.0, 2.0 * model.rangeMax() / map.resolution())) + 4, 0);
     seabed_range_.assign(static_cast<std::size_t>(std::max(model.colCapacity(), model.cols())), 0.0f);
     seabed_row_.assign(seabed_range_.size(), -1);
 }

@@ -51,6 +51,8 @@ private:
     std::vector<uint8_t> bright_, mask_;
     std::vector<int32_t> integral_;    // (rows + 1) x (cols + 1) summed-area table of bright_
     std::vector<uint8_t> scratch_;     // one seabed row's pixels
+    std::vector<uint32_t> returned_;   // where they lie (pixel index)
+    std::vector<uint32_t> bright_list_;  // the frame's bright pixels, seabed row by seabed row
     std::vector<int16_t> need_;        // per seabed row: bright pixels a window needs
     std::vector<int16_t> need_by_rate_;  // minimumBright at rate k / kRateSteps
 };

@@ -156,6 +156,10 @@ private:
     // one arc's points are computed several at a time (arcVoxels).
     std::vector<float> world_x_, world_y_, world_z_;
     std::vector<uint32_t> arc_voxel_;  // one arc's voxels (arcVoxels)
+    // The free space's arc samples per half-voxel range step from the
+    // nearest row (the same for every beam of a frame); steps past its
+    // capacity (a geometry bound later reaching further) are computed.
+    std::vector<int> free_step_samples_;
     // Per voxel, this frame: the strongest intensity that voted it,
     // kHitAboveSeabed when a vote the seabed cannot explain hit it, kTouched
     // once a vote or the free space reached it (kTouched alone: freed); 0 =
@@ -301,12 +305,23 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
         const float margin = std::sqrt(3.0f);
         const float r_min = static_cast<float>(model.rangeOfRow(frame.rows - 1)) * inv_res;
         const int noise = freeSpaceStopLevel(image_noise, cfg_);
+        int steps_known = 0;  // free_step_samples_[0..steps_known) hold this frame's
         for (int col = 0; col < frame.cols; ++col) {
             const int first = firstEchoRow(frame, col, cfg_.fls_intensity_threshold, noise);
             const float r_first =  // no return: all water
                 static_cast<float>(first < 0 ? model.rangeMax() : model.rangeOfRow(first)) * inv_res;
-            for (float r = r_min; r < r_first - margin; r += 0.5f) {
-                const int n = arcSamples(r * map.resolution());
+            int step = 0;
+            for (float r = r_min; r < r_first - margin; r += 0.5f, ++step) {
+                // Every beam steps through the same ranges: their arc lengths
+                // are taken once per frame (as far as the table holds them).
+                int n;
+                if (step < steps_known) {
+                    n = free_step_samples_[static_cast<std::size_t>(step)];
+                } else {
+                    n = arcSamples(r * map.resolution());
+                    if (step == steps_known && step < static_cast<int>(free_step_samples_.size()))
+                        free_step_samples_[static_cast<std::size_t>(steps_known++)] = n;
+                }
                 (void)arcVoxels(sensor, r, g.table_offset[n] + static_cast<std::size_t>(col) * n, n, grid);
                 for (int k = 0; k < n; ++k) {
                     const uint32_t v = arc_voxel_[static_cast<std::size_t>(k)];
