@@ -13,7 +13,6 @@ std::optional<Eigen::Vector3d> flsReturnNearerThanSeabed(const FlsFrame& frame, 
     const Eigen::Vector3d sensor = world_from_sensor.translation();
     const double depth_below = seabed.depthAt(sensor.head<2>()) - sensor.z() - margin;
     if (!(depth_below > 0.0)) return std::nullopt;
-    const double lo = model.elevationMin(), hi = model.elevationMax(), mid = 0.5 * (lo + hi);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     int n = 0;
     for (int col = 0; col < frame.cols; ++col) {
@@ -21,11 +20,11 @@ std::optional<Eigen::Vector3d> flsReturnNearerThanSeabed(const FlsFrame& frame, 
         // nearest such range is on one of its edges (the rate is monotonic in
         // elevation) or, with roll, near its centre.
         double nearest = std::numeric_limits<double>::infinity();
-        for (double e : {lo, mid, hi}) {
-            const double rate = seabed.closingRate(world_from_sensor.linear() * model.directionAt(col, e).cast<double>());
+        for (int e = 0; e < 3; ++e) {  // lower edge, centre, upper edge
+            const double rate = seabed.closingRate(world_from_sensor.linear() * model.edgeDirection(col, e).cast<double>());
             if (rate > 1e-6) nearest = std::min(nearest, depth_below / rate);
         }
-        const Eigen::Vector3d centre = world_from_sensor.linear() * model.directionAt(col, mid).cast<double>();
+        const Eigen::Vector3d centre = world_from_sensor.linear() * model.edgeDirection(col, 1).cast<double>();
         // Rows run from the far end: walk in from the nearest row while it is nearer than the seabed.
         for (int row = frame.rows - 1; row >= 0; --row) {
             const double r = model.rangeOfRow(row);
@@ -62,9 +61,12 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     const Eigen::Vector3d sensor = world_from_sensor.translation();
     const double depth_below = seabed.depthAt(sensor.head<2>()) - sensor.z();
     if (!(depth_below - margin > 0.0) || !(false_alarm > 0.0)) return std::nullopt;
-    const double lo = model.elevationMin(), hi = model.elevationMax(), mid = 0.5 * (lo + hi);
+    const double lo = model.elevationMin(), hi = model.elevationMax();
     const auto rate = [&](int col, double e) {
         return seabed.closingRate(world_from_sensor.linear() * model.directionAt(col, e).cast<double>());
+    };
+    const auto edge_rate = [&](int col, int e) {  // at the lower edge, centre, upper edge
+        return seabed.closingRate(world_from_sensor.linear() * model.edgeDirection(col, e).cast<double>());
     };
     // A beam's fastest- and slowest-closing rays (the rate is monotonic in
     // elevation, so an edge, or with roll near the centre).
@@ -73,8 +75,8 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     };
     const auto closing_of = [&](int col) {
         Closing c;
-        for (double e : {lo, mid, hi}) {
-            const double v = rate(col, e);
+        for (int e = 0; e < 3; ++e) {
+            const double v = edge_rate(col, e);
             c.fastest = std::max(c.fastest, v);
             c.slowest = std::min(c.slowest, v);
         }
@@ -202,7 +204,7 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     // closing rate there is depth / range; bisect (the rate is monotonic).
     const double wanted = depth_below / best_range;
     double a = lo, b = hi;
-    const bool rising = rate(best_col, hi) > rate(best_col, lo);
+    const bool rising = edge_rate(best_col, 2) > edge_rate(best_col, 0);
     for (int k = 0; k < 30; ++k) {
         const double m = 0.5 * (a + b);
         if ((rate(best_col, m) < wanted) == rising) a = m;

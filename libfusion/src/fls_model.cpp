@@ -61,6 +61,7 @@ FlsModel::FlsModel(const FlsGeometry& g)
 
     elevation_.resize(nv_);
     direction_.resize(static_cast<std::size_t>(cols_) * nv_);
+    edge_direction_.resize(static_cast<std::size_t>(cols_) * 3);
     buildDirections();
 }
 
@@ -72,6 +73,9 @@ void FlsModel::buildDirections() {
     // Eq. 4 without the range: (cos(t+phi) cos th, cos(t+phi) sin th, sin(t+phi)).
     for (int c = 0; c < cols_; ++c)
         for (int k = 0; k < nv_; ++k) direction_[static_cast<std::size_t>(c) * nv_ + k] = directionAt(c, elevation_[k]);
+    const double edges[3] = {elevation_min_, 0.5 * (elevation_min_ + elevation_max_), elevation_max_};
+    for (int c = 0; c < cols_; ++c)
+        for (int e = 0; e < 3; ++e) edge_direction_[static_cast<std::size_t>(c) * 3 + e] = directionAt(c, edges[e]);
 }
 
 namespace {
@@ -103,6 +107,7 @@ bool FlsModel::assign(const FlsFrame& f) {
     range_.resize(rows_);  // within the capacity reserved at construction: no allocation
     bearing_.resize(cols_);
     direction_.resize(static_cast<std::size_t>(cols_) * nv_);
+    edge_direction_.resize(static_cast<std::size_t>(cols_) * 3);
     range_max_ = 0.0;
     for (int r = 0; r < rows_; ++r) {
         range_[r] = f.row_range[r];

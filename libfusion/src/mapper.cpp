@@ -602,10 +602,9 @@ void Mapper::holdFrame(const FlsFrame& frame, const Eigen::Isometry3d& world_fro
 
 // The FLS boresight (the middle of the fan and of the elevation arc) in the world frame.
 Eigen::Vector3d Mapper::flsBoresight(const FlsModel& model, const Eigen::Isometry3d& world_from_sensor) {
-    const double elevation = 0.5 * (model.elevationMin() + model.elevationMax());
     const int right = model.cols() / 2, left = std::max(0, model.cols() - 1 - right);
     return world_from_sensor.linear() *
-           (model.directionAt(left, elevation) + model.directionAt(right, elevation)).cast<double>().normalized();
+           (model.edgeDirection(left, 1) + model.edgeDirection(right, 1)).cast<double>().normalized();
 }
 
 // DetectorConfig::replay_fls_frames: the FLS looks at an object before the

@@ -77,6 +77,12 @@ public:
     // Unit direction (sensor frame) of column `col` at any elevation inside the
     // aperture (Eq. 4 without the range), for arcs sampled finer than N_v.
     [[nodiscard]] Eigen::Vector3f directionAt(int col, double elevation) const;
+    // directionAt(col, e) at the aperture's lower edge (0), its centre
+    // 0.5 * (min + max) (1) and its upper edge (2), tabulated: the seabed
+    // tests of every frame take them per beam (fls_detection.hpp).
+    [[nodiscard]] const Eigen::Vector3f& edgeDirection(int col, int which) const {
+        return edge_direction_[static_cast<std::size_t>(col) * 3 + static_cast<std::size_t>(which)];
+    }
     [[nodiscard]] double elevationMin() const { return elevation_min_; }
     [[nodiscard]] double elevationMax() const { return elevation_max_; }
     [[nodiscard]] double rangeMax() const { return range_max_; }
@@ -105,6 +111,7 @@ private:
     std::vector<double> bearing_;
     std::vector<double> elevation_;
     std::vector<Eigen::Vector3f> direction_;  // cols * nv
+    std::vector<Eigen::Vector3f> edge_direction_;  // cols * 3 (edgeDirection)
 };
 
 }  // namespace sonarfusion
