@@ -93,6 +93,23 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     };
     const auto value_at = [&](int row, int col) { return frame.data[static_cast<std::size_t>(row) * frame.cols + col]; };
     const auto dark_at = [&](int row, int col) { return value_at(row, col) <= noise_level; };
+    // Where a walk out from the nearest row may start for a band beginning at
+    // `near`: with ranges falling with the row, the last row at least that far
+    // (the rows nearer only skip); otherwise the nearest row.
+    const auto band_start = [&](double near) {
+        if (!model.rangesFallWithRow()) return frame.rows - 1;
+        int lo = 0, hi = frame.rows - 1, found = -1;
+        while (lo <= hi) {
+            const int mid = (lo + hi) / 2;
+            if (model.rangeOfRow(mid) >= near) {
+                found = mid;
+                lo = mid + 1;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        return found;
+    };
     // Pass 1: per part of the band, how often a pixel is dark and how often
     // one after a dark pixel is dark too. Rows run from the far end: walk out
     // from the nearest row.
@@ -118,7 +135,7 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
         const std::optional<BeamBand> band = band_of(closing);
         if (!band) continue;
         bool previous_dark = false, started = false;
-        for (int row = frame.rows - 1; row >= 0; --row) {
+        for (int row = band_start(band->near); row >= 0; --row) {
             const double r = model.rangeOfRow(row);
             if (r < band->near) continue;
             if (r > band->far) break;
@@ -180,7 +197,7 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
                 best_range = run_start;
             }
         };
-        for (int row = frame.rows - 1; row >= 0; --row) {
+        for (int row = band_start(band->near); row >= 0; --row) {
             const double r = model.rangeOfRow(row);
             if (r < band->near) continue;
             if (r > band->far) break;

@@ -45,6 +45,7 @@ FlsModel::FlsModel(const FlsGeometry& g)
     }
 
     for (int r = 0; r < rows_; ++r) range_max_ = std::max(range_max_, range_[r]);
+    for (int r = 1; r < rows_; ++r) ranges_fall_ = ranges_fall_ && range_[r] <= range_[r - 1];
 
     bearing_.resize(cols_);
     if (!g.beam_bearing.empty()) {
@@ -113,6 +114,8 @@ bool FlsModel::assign(const FlsFrame& f) {
         range_[r] = f.row_range[r];
         range_max_ = std::max(range_max_, range_[r]);
     }
+    ranges_fall_ = true;
+    for (int r = 1; r < rows_; ++r) ranges_fall_ = ranges_fall_ && range_[r] <= range_[r - 1];
     for (int c = 0; c < cols_; ++c) bearing_[c] = f.beam_bearing[c];
     elevation_min_ = f.elevation_min;
     elevation_max_ = f.elevation_max;

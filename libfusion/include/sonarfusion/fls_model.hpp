@@ -61,6 +61,9 @@ public:
 
     // Eq. 1 (or the per-row table of a non-uniform sonar).
     [[nodiscard]] double rangeOfRow(int row) const { return range_[row]; }
+    // True when no row is farther than the row before it (Eq. 1's order; a
+    // frame's own row ranges need not keep it): then rows can be searched by range.
+    [[nodiscard]] bool rangesFallWithRow() const { return ranges_fall_; }
     // Eq. 2 (or the per-beam table).
     [[nodiscard]] double bearingOfColumn(int col) const { return bearing_[col]; }
     // Eq. 3.
@@ -107,6 +110,7 @@ private:
     int rows_, cols_, nv_;
     int row_capacity_, col_capacity_;
     double tilt_, elevation_min_, elevation_max_, range_max_ = 0.0;
+    bool ranges_fall_ = true;  // rangesFallWithRow
     std::vector<double> range_;
     std::vector<double> bearing_;
     std::vector<double> elevation_;
