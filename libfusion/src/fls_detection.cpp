@@ -97,18 +97,7 @@ std::optional<Eigen::Vector3d> flsShadowOnSeabed(const FlsFrame& frame, const Fl
     // `near`: with ranges falling with the row, the last row at least that far
     // (the rows nearer only skip); otherwise the nearest row.
     const auto band_start = [&](double near) {
-        if (!model.rangesFallWithRow()) return frame.rows - 1;
-        int lo = 0, hi = frame.rows - 1, found = -1;
-        while (lo <= hi) {
-            const int mid = (lo + hi) / 2;
-            if (model.rangeOfRow(mid) >= near) {
-                found = mid;
-                lo = mid + 1;
-            } else {
-                hi = mid - 1;
-            }
-        }
-        return found;
+        return model.rangesFallWithRow() ? model.lastRowAtLeast(near) : frame.rows - 1;
     };
     // Pass 1: per part of the band, how often a pixel is dark and how often
     // one after a dark pixel is dark too. Rows run from the far end: walk out

@@ -64,6 +64,21 @@ public:
     // True when no row is farther than the row before it (Eq. 1's order; a
     // frame's own row ranges need not keep it): then rows can be searched by range.
     [[nodiscard]] bool rangesFallWithRow() const { return ranges_fall_; }
+    // With ranges falling with the row: the last row whose range is at least
+    // `range` (-1: none), by bisection.
+    [[nodiscard]] int lastRowAtLeast(double range) const {
+        int lo = 0, hi = rows_ - 1, found = -1;
+        while (lo <= hi) {
+            const int mid = (lo + hi) / 2;
+            if (range_[mid] >= range) {
+                found = mid;
+                lo = mid + 1;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        return found;
+    }
     // Eq. 2 (or the per-beam table).
     [[nodiscard]] double bearingOfColumn(int col) const { return bearing_[col]; }
     // Eq. 3.

@@ -237,17 +237,7 @@ FlsUpdateStats FlsUpdater::update(const FlsFrame& frame, const Eigen::Isometry3d
         // Per beam, the row where the seabed could first return (rows run from the far end).
         for (int col = 0; col < frame.cols; ++col) {
             const float nearest = seabed_range_[static_cast<std::size_t>(col)] * static_cast<float>(map.resolution());
-            int lo = 0, hi = frame.rows - 1, found = -1;
-            while (nearest > 0.0f && lo <= hi) {  // last row whose range is at least `nearest`
-                const int mid = (lo + hi) / 2;
-                if (model.rangeOfRow(mid) >= nearest) {
-                    found = mid;
-                    lo = mid + 1;
-                } else {
-                    hi = mid - 1;
-                }
-            }
-            seabed_row_[static_cast<std::size_t>(col)] = found;
+            seabed_row_[static_cast<std::size_t>(col)] = nearest > 0.0f ? model.lastRowAtLeast(nearest) : -1;
         }
         highlight_.compute(frame, cfg_.fls_intensity_threshold, image_noise, seabed_row_.data());
     }
