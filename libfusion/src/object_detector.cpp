@@ -22,7 +22,10 @@ ObjectDetector::ObjectDetector(const DetectorConfig& cfg) : cfg_(cfg) {
     seabed_state_.assign(cfg.seabed_capacity, EchoState::Seabed);
     seabed_deeper_by_.assign(cfg.seabed_capacity, 0.0);
     residual_.assign(cfg.seabed_capacity, 0.0);
-    disc_.assign(cfg.seabed_capacity, 0);
+    disc_.assign(cfg.seabed_capacity, Eigen::Vector3d::Zero());
+    level_residual_.assign(cfg.seabed_capacity, 0.0);
+    about_prev_.assign(cfg.seabed_capacity, 0.0);
+    kept_.assign(cfg.seabed_capacity, 0);
     risen_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
     shadows_.assign(cfg.risen_capacity, Eigen::Vector3d::Zero());
 }
@@ -68,7 +71,7 @@ std::optional<SeabedFit> ObjectDetector::fit(const Eigen::Vector2d& xy, Trim tri
     return fitDisc(*disc, trim);
 }
 
-// The echoes within seabed_radius of xy (their slots go to disc_, in ring
+// The echoes within seabed_radius of xy (copied to disc_, in ring
 // order, so every later pass sums as a pass over the ring would) and what
 // both trims need of them; nothing when they are too few or, with
 // seabed_across_lines, when too few lie across from xy.
@@ -77,15 +80,15 @@ std::optional<ObjectDetector::Disc> ObjectDetector::discAt(const Eigen::Vector2d
     Disc d;
     for (int i = 0; i < seabed_count_; ++i)
         if (seabed_state_[i] != EchoState::RisenLater && (seabed_[i].head<2>() - xy).squaredNorm() <= r2) {
-            disc_[d.m++] = i;
+            disc_[d.m++] = seabed_[i];
             d.centre += seabed_[i].head<2>();
             d.depth0 += seabed_[i].z();
         }
     if (d.m < cfg_.min_seabed_echoes) return std::nullopt;
     d.centre /= d.m;
     d.depth0 /= d.m;
-    const int* const begin = disc_.data();
-    const int* const end = begin + d.m;
+    const Eigen::Vector3d* const begin = disc_.data();
+    const Eigen::Vector3d* const end = begin + d.m;
     // DetectorConfig::seabed_across_lines. The PS places its echoes on the
     // track line, so a line flown beside an earlier one lies across from every
     // echo of that line, where the line's plane is an extrapolation whose tilt
@@ -104,19 +107,19 @@ std::optional<ObjectDetector::Disc> ObjectDetector::discAt(const Eigen::Vector2d
         Eigen::Matrix2d near_spread = Eigen::Matrix2d::Zero(), spread = Eigen::Matrix2d::Zero();
         Eigen::Vector2d near_sum = Eigen::Vector2d::Zero();
         int near = 0;
-        for (const int* i = begin; i != end; ++i) {
-            const Eigen::Vector2d dc = seabed_[*i].head<2>() - d.centre;
+        for (const Eigen::Vector3d* i = begin; i != end; ++i) {
+            const Eigen::Vector2d dc = i->head<2>() - d.centre;
             spread += dc * dc.transpose();
-            if ((seabed_[*i].head<2>() - xy).squaredNorm() <= c2) {
-                near_sum += seabed_[*i].head<2>();
+            if ((i->head<2>() - xy).squaredNorm() <= c2) {
+                near_sum += i->head<2>();
                 ++near;
             }
         }
         if (near >= 3) {
             const Eigen::Vector2d near_centre = near_sum / near;
-            for (const int* i = begin; i != end; ++i)
-                if ((seabed_[*i].head<2>() - xy).squaredNorm() <= c2) {
-                    const Eigen::Vector2d dn = seabed_[*i].head<2>() - near_centre;
+            for (const Eigen::Vector3d* i = begin; i != end; ++i)
+                if ((i->head<2>() - xy).squaredNorm() <= c2) {
+                    const Eigen::Vector2d dn = i->head<2>() - near_centre;
                     near_spread += dn * dn.transpose();
                 }
         }
@@ -130,8 +133,8 @@ std::optional<ObjectDetector::Disc> ObjectDetector::discAt(const Eigen::Vector2d
                        : Eigen::Vector2d(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(spread).eigenvectors().col(0));
         d.u_xy = d.across.dot(xy - d.centre);
         int beside = 0;
-        for (const int* i = begin; i != end; ++i)
-            beside += d.onOwnLine(seabed_[*i].head<2>(), cfg_.cluster_radius);
+        for (const Eigen::Vector3d* i = begin; i != end; ++i)
+            beside += d.onOwnLine(i->head<2>(), cfg_.cluster_radius);
         if (beside < std::max(3, cfg_.min_seabed_echoes / 4)) return std::nullopt;
         d.other_lines = beside < d.m;
     }
@@ -140,8 +143,11 @@ std::optional<ObjectDetector::Disc> ObjectDetector::discAt(const Eigen::Vector2d
 
 std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) const {
     const bool lower = trim == Trim::LowerEnvelope;
-    const int* const begin = disc_.data();
-    const int* const end = begin + disc.m;
+    // The disc's echoes (discAt gathered them, in ring order); k below is an
+    // echo's place among them. Every sum runs over the echoes a pass keeps in
+    // that order, as a pass over the ring would.
+    const Eigen::Vector3d* const echo = disc_.data();
+    const int m = disc.m;
     const Eigen::Vector2d& centre = disc.centre;
     const Eigen::Vector2d& across = disc.across;
     const double depth0 = disc.depth0;
@@ -157,34 +163,36 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
     // the disc holds more than xy's own.
     const bool per_line = lower && cfg_.seabed_across_lines && cfg_.envelope_per_line && disc.other_lines;
     double second_beside = 0.0, second_others = 0.0;  // the second cut's medians, per group
-    auto levelResidual = [&](int i) {  // about the plane the first cut is made from
-        return seabed_[i].z() - depth0 - tilt * across.dot(seabed_[i].head<2>() - centre);
-    };
-    auto onOwnLine = [&](int i) { return disc.onOwnLine(seabed_[i].head<2>(), cfg_.cluster_radius); };
+    auto onOwnLine = [&](int k) { return disc.onOwnLine(echo[k].head<2>(), cfg_.cluster_radius); };
     enum class Group { All, Beside, Others };
-    // The median of value(i) (a double, or an optional one: nothing leaves i
-    // out) over the group's slots; 0 for an empty group.
+    // The median of value(k) (a double, or an optional one: nothing leaves k
+    // out) over the group's echoes; 0 for an empty group.
     auto groupMedian = [&](Group g, auto value) {
-        std::size_t k = 0;
-        for (const int* i = begin; i != end; ++i) {
-            if (g != Group::All && onOwnLine(*i) != (g == Group::Beside)) continue;
-            const std::optional<double> v = value(*i);
-            if (v) residual_[k++] = *v;
+        std::size_t n = 0;
+        for (int k = 0; k < m; ++k) {
+            if (g != Group::All && onOwnLine(k) != (g == Group::Beside)) continue;
+            const std::optional<double> v = value(k);
+            if (v) residual_[n++] = *v;
         }
-        return k > 0 ? medianInPlace(residual_, k) : 0.0;
+        return n > 0 ? medianInPlace(residual_, n) : 0.0;
     };
     if (lower) {
         if (cfg_.seabed_across_lines) {
-            double suu = 1e-3 * disc.m, suz = 0.0;  // the plane fits' ridge: (3 cm)^2 per echo
-            for (const int* i = begin; i != end; ++i) {
-                const double u = across.dot(seabed_[*i].head<2>() - centre);
+            double suu = 1e-3 * m, suz = 0.0;  // the plane fits' ridge: (3 cm)^2 per echo
+            for (int k = 0; k < m; ++k) {
+                const double u = across.dot(echo[k].head<2>() - centre);
                 suu += u * u;
-                suz += u * (seabed_[*i].z() - depth0);
+                suz += u * (echo[k].z() - depth0);
             }
             tilt = suz / suu;
         }
-        median_residual = groupMedian(Group::All, levelResidual);
+        // Each echo's residual about the plane the first cut is made from,
+        // once: the median, and the cut itself in the passes after it.
+        for (int k = 0; k < m; ++k)
+            level_residual_[k] = echo[k].z() - depth0 - tilt * across.dot(echo[k].head<2>() - centre);
+        median_residual = groupMedian(Group::All, [&](int k) { return level_residual_[k]; });
     }
+    auto firstCut = [&](int k) { return level_residual_[k] >= median_residual; };
     SeabedFit f;
     const int passes = lower ? 6 : 4;
     int first_pass = 0;
@@ -212,40 +220,42 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
         // A scatter under a millimetre is rounding, not the seabed's: echoes
         // exactly on a plane must all stay in the trim's window.
         const double scatter = std::max(prev.rms, 1e-3);
-        auto firstCut = [&](int i) { return levelResidual(i) >= median_residual; };
+        // Each echo's residual about the previous pass's plane, once (NED:
+        // negative is above).
+        if (pass > 0)
+            for (int k = 0; k < m; ++k) about_prev_[k] = echo[k].z() - prev.depthAt(echo[k].head<2>());
         if (per_line && pass == 2) {
             // Each group's median residual about the plane of the first cut,
             // over that group's echoes the first cut kept.
-            auto about_prev = [&](int i) {
-                return firstCut(i) ? std::optional<double>(seabed_[i].z() - prev.depthAt(seabed_[i].head<2>()))
-                                   : std::nullopt;
+            auto about_prev = [&](int k) {
+                return firstCut(k) ? std::optional<double>(about_prev_[k]) : std::nullopt;
             };
             second_beside = groupMedian(Group::Beside, about_prev);
             second_others = groupMedian(Group::Others, about_prev);
         }
-        auto use = [&](int i) {  // i: a slot in the disc
+        auto use = [&](int k) {
             if (pass == 0) return true;
-            const Eigen::Vector3d& p = seabed_[i];
-            const double residual = p.z() - prev.depthAt(p.head<2>());  // NED: negative is above
+            const double residual = about_prev_[k];
             if (lower) {
-                if (pass == 1) return firstCut(i);
+                if (pass == 1) return firstCut(k);
                 if (pass == 2) {  // then the lower half about that plane
                     if (!per_line) return residual >= 0.0;
-                    return firstCut(i) && residual >= (onOwnLine(i) ? second_beside : second_others);
+                    return firstCut(k) && residual >= (onOwnLine(k) ? second_beside : second_others);
                 }
                 return std::fabs(residual) <= 3.0 * scatter;
             }
             return pass < passes - 1 ? residual >= -scatter : std::fabs(residual) <= 3.0 * scatter;
         };
+        // The echoes this pass keeps, decided once; the sums below read the list.
+        int n = 0;
+        for (int k = 0; k < m; ++k)
+            if (use(k)) kept_[n++] = k;
         Eigen::Vector2d sum_xy = Eigen::Vector2d::Zero();
         double sum_z = 0.0;
-        int n = 0;
-        for (const int* i = begin; i != end; ++i)
-            if (use(*i)) {
-                sum_xy += seabed_[*i].head<2>();
-                sum_z += seabed_[*i].z();
-                ++n;
-            }
+        for (int j = 0; j < n; ++j) {
+            sum_xy += echo[kept_[j]].head<2>();
+            sum_z += echo[kept_[j]].z();
+        }
         if (lower && pass > 0) {
             // Two halvings keep a quarter of a clean seabed; fewer, and what is
             // left is not the seabed's to judge by (the first plane, all echoes
@@ -258,22 +268,23 @@ std::optional<SeabedFit> ObjectDetector::fitDisc(const Disc& disc, Trim trim) co
         const double zc = sum_z / n;
         Eigen::Matrix2d a = Eigen::Matrix2d::Identity() * (1e-3 * n);  // ridge: (3 cm)^2 per echo
         Eigen::Vector2d b = Eigen::Vector2d::Zero();
-        for (const int* i = begin; i != end; ++i)
-            if (use(*i)) {
-                const Eigen::Vector2d d = seabed_[*i].head<2>() - c;
-                a += d * d.transpose();
-                b += d * (seabed_[*i].z() - zc);
-            }
+        for (int j = 0; j < n; ++j) {
+            const Eigen::Vector3d& p = echo[kept_[j]];
+            const Eigen::Vector2d d = p.head<2>() - c;
+            a += d * d.transpose();
+            b += d * (p.z() - zc);
+        }
         f.centre = c;
         f.depth = zc;
         f.gradient = a.ldlt().solve(b);
         f.echoes = n;
         // Robust scatter of the echoes in this fit about it (not about their
         // median: the plane is the model, its residuals' centre is zero).
-        std::size_t m = 0;
-        for (const int* i = begin; i != end; ++i)
-            if (use(*i)) residual_[m++] = seabed_[*i].z() - f.depthAt(seabed_[*i].head<2>());
-        f.rms = robustSigmaInPlace(residual_, m, 0.0);
+        for (int j = 0; j < n; ++j) {
+            const Eigen::Vector3d& p = echo[kept_[j]];
+            residual_[j] = p.z() - f.depthAt(p.head<2>());
+        }
+        f.rms = robustSigmaInPlace(residual_, static_cast<std::size_t>(n), 0.0);
         // The same echoes give the same plane: a window that changed nothing is the fixed point.
         if (stage_pass > last_stage && f.echoes == prev.echoes && f.depth == prev.depth &&
             f.gradient == prev.gradient && f.rms == prev.rms)

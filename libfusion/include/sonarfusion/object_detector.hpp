@@ -97,7 +97,7 @@ private:
     // DetectorConfig::rise_trim_converges: at most this many more windows.
     static constexpr int kMaxExtraWindows = 16;
     [[nodiscard]] std::optional<SeabedFit> fit(const Eigen::Vector2d& xy, Trim trim) const;
-    // The seabed echoes within seabed_radius of xy (slots in disc_), their
+    // The seabed echoes within seabed_radius of xy (copied to disc_), their
     // mean position and depth, and the axis across their line; what a Rise
     // fit and the LowerEnvelope fit it starts from share, computed once.
     struct Disc {
@@ -132,7 +132,12 @@ private:
     std::vector<EchoState> seabed_state_;  // per slot of seabed_
     std::vector<double> seabed_deeper_by_;  // per slot of seabed_: the echo's spread down its beam
     mutable std::vector<double> residual_; // scratch for the median absolute residual
-    mutable std::vector<int> disc_;        // scratch: the slots discAt found
+    // Scratch for the fits, seabed_capacity each (allocated once): the echoes
+    // discAt found, in ring order; per echo, its residual about the first
+    // cut's level plane and about the previous pass's plane; the echoes a pass keeps.
+    mutable std::vector<Eigen::Vector3d> disc_;
+    mutable std::vector<double> level_residual_, about_prev_;
+    mutable std::vector<int> kept_;
     int seabed_count_ = 0, seabed_next_ = 0;
     std::vector<Eigen::Vector3d> risen_;   // ring of risen echoes
     int risen_count_ = 0, risen_next_ = 0;
