@@ -117,6 +117,7 @@ DaemonConfig parse(const YAML::Node& root) {
     det.read("rise_from_lower_envelope", m.detector.rise_from_lower_envelope);
     det.read("rise_trim_converges", m.detector.rise_trim_converges);
     det.read("judge_early_echoes", m.detector.judge_early_echoes);
+    det.read("judge_early_echoes_by_tighter_plane", m.detector.judge_early_echoes_by_tighter_plane);
     det.read("seabed_across_lines", m.detector.seabed_across_lines);
     det.read("envelope_per_line", m.detector.envelope_per_line);
     det.read("nearest_echo_sigmas", m.detector.nearest_echo_sigmas);

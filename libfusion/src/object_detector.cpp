@@ -382,7 +382,16 @@ bool ObjectDetector::judgeEarlyEchoes(const Eigen::Vector2d& xy, const SeabedFit
     int risen_now = 0;
     for (int i = 0; i < seabed_count_; ++i) {
         if (seabed_state_[i] != EchoState::Unjudged || (seabed_[i].head<2>() - xy).squaredNorm() > r2) continue;
-        const bool risen = risesAbove(seabed_[i], plane, seabed_deeper_by_[i]);
+        // DetectorConfig::judge_early_echoes_by_tighter_plane: also the plane fitted
+        // where the echo lies, and of the two the one with the smaller
+        // scatter. Early echoes are in both fits, and an object's among them
+        // lift a plane and widen its scatter (at one end of the disc they
+        // tilt it, at its centre the rise trim's window can grow to hold
+        // them): the tighter plane is the one they lifted less.
+        std::optional<SeabedFit> own;
+        if (cfg_.judge_early_echoes_by_tighter_plane) own = seabedAt(seabed_[i].head<2>());
+        const SeabedFit& judge = own && own->rms < plane.rms ? *own : plane;
+        const bool risen = risesAbove(seabed_[i], judge, seabed_deeper_by_[i]);
         seabed_state_[i] = risen ? EchoState::RisenLater : EchoState::Seabed;
         if (!risen) continue;
         addRisen(seabed_[i]);

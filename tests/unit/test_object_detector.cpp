@@ -215,6 +215,45 @@ TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftThePlaneRisesAreJud
     }
 }
 
+// DetectorConfig::judge_early_echoes_by_tighter_plane. A low object (0.3 m) in the
+// PS's first sweeps, before any plane exists, at one end of what becomes the
+// first plane's disc: that plane, fitted around the newest echo 2 m away, leans
+// towards the object's echoes and takes their rise into its scatter, so judged
+// by it they do not rise. Each judged by the plane where it lies, they do.
+TEST(ObjectDetector, EarlyEchoesAreJudgedByTheTighterPlane) {
+    for (const bool in_place : {false, true}) {
+        int found = 0;
+        for (int seed = 1; seed <= 20; ++seed) {
+            DetectorConfig cfg;
+            cfg.judge_early_echoes_by_tighter_plane = in_place;
+            ObjectDetector det{cfg};
+            std::mt19937 rng(seed);
+            std::normal_distribution<double> noise(0.0, 0.03);
+            std::uniform_real_distribution<double> behind(-3.0, -0.3), unit(0.0, 1.0);
+            bool fired = false;
+            // Echoes on the track line (the PS places them there): the seabed
+            // behind the object, the object's 8 (0.3 m up, x -0.25..0.25), then
+            // the seabed ahead in the order the vehicle reaches it. No plane
+            // exists until some 1.4 m ahead of the object.
+            for (int i = 0; i < 40; ++i) fired |= det.addEchoPoint(Eigen::Vector3d(behind(rng), 0.0, 20.0 + noise(rng)));
+            for (int i = 0; i < 8; ++i)
+                fired |= det.addEchoPoint(Eigen::Vector3d(-0.25 + 0.07 * i, 0.0, 19.7 + 0.5 * noise(rng)));
+            for (int i = 0; i < 80 && !fired; ++i)
+                fired |= det.addEchoPoint(Eigen::Vector3d(0.3 + 0.0325 * (i + unit(rng)), 0.0, 20.0 + noise(rng)));
+            found += fired;
+            if (fired) {
+                ASSERT_TRUE(det.detection().has_value());
+                EXPECT_NEAR(det.detection()->x(), 0.0, 0.2);
+                EXPECT_NEAR(det.detection()->z(), 19.7, 0.05);
+            }
+        }
+        if (in_place)
+            EXPECT_EQ(found, 20);
+        else
+            EXPECT_LT(found, 15);  // 9 of 20
+    }
+}
+
 // DetectorConfig::judge_early_echoes. The PS's first sweeps cross a boulder
 // (0.5 m tall) before any plane exists, then sweep on over bare seabed: the
 // boulder's echoes went in as seabed and no later echo falls on it. Judged when

@@ -289,6 +289,14 @@ struct DetectorConfig {
     // first does there: a risen one joins the risen echoes (and leaves the
     // seabed's fits). False: they stay seabed for good.
     bool judge_early_echoes = true;
+    // Each such echo is also judged by the plane fitted where it lies, and
+    // the one of the two planes with the smaller scatter decides: the early
+    // echoes are in both fits, and an object's among them lift a plane and
+    // widen its scatter (a low mine 0.5 m off in the first sweeps: a first
+    // plane of 0.09 m scatter, a rise threshold of 0.36 m over a 0.3 m mine;
+    // docs/algorithm.md, "Early echoes judged by the tighter plane"). False:
+    // the plane at the newest echo judges them all.
+    bool judge_early_echoes_by_tighter_plane = true;
     // PS pings kept (ring, allocated once, 168 B each) and carved into a map
     // when the detector anchors it: the pings that looked at its stretch before
     // it existed. 0: a map starts with the ping after the detection (paper).
