@@ -217,15 +217,16 @@ TEST(ObjectDetector, ObjectEchoesTakenBeforeAnyPlaneDoNotLiftThePlaneRisesAreJud
 
 // DetectorConfig::judge_early_echoes_by_tighter_plane. A low object (0.3 m) in the
 // PS's first sweeps, before any plane exists, at one end of what becomes the
-// first plane's disc: that plane, fitted around the newest echo 2 m away, leans
-// towards the object's echoes and takes their rise into its scatter, so judged
-// by it they do not rise. Each judged by the plane where it lies, they do.
+// first plane's disc: that plane, fitted around the newest echo 1.4 m away,
+// leans towards the object's echoes and takes their rise into its scatter, so
+// judged by it they often do not rise. The plane fitted where they lie, with
+// them at its centre, is the tighter one here, and judged by it they do.
 TEST(ObjectDetector, EarlyEchoesAreJudgedByTheTighterPlane) {
-    for (const bool in_place : {false, true}) {
+    for (const bool tighter : {false, true}) {
         int found = 0;
         for (int seed = 1; seed <= 20; ++seed) {
             DetectorConfig cfg;
-            cfg.judge_early_echoes_by_tighter_plane = in_place;
+            cfg.judge_early_echoes_by_tighter_plane = tighter;
             ObjectDetector det{cfg};
             std::mt19937 rng(seed);
             std::normal_distribution<double> noise(0.0, 0.03);
@@ -247,7 +248,7 @@ TEST(ObjectDetector, EarlyEchoesAreJudgedByTheTighterPlane) {
                 EXPECT_NEAR(det.detection()->z(), 19.7, 0.05);
             }
         }
-        if (in_place)
+        if (tighter)
             EXPECT_EQ(found, 20);
         else
             EXPECT_LT(found, 15);  // 9 of 20
